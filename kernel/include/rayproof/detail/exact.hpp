@@ -1,0 +1,764 @@
+// rayproof/detail/exact.hpp — exact arithmetic for the certified mode and for input
+// validation: error-free transformations, Shewchuk expansions, a fixed-capacity exact
+// dyadic rational, and the exact decisions built on them (faithful quotients,
+// comparisons of quotients, the sign of a 3x3 determinant).
+//
+// Two exact number types share one interface, so an exact algorithm is written once
+// as a template on E and run with either (see with_exact below):
+//   Expansion<Cap>  a sum of up to Cap doubles (Shewchuk 1997). Fast: a few flops per
+//                   component. Exact when no product underflows (guaranteed for inputs
+//                   that pass expansion_safe) and the result needs at most Cap
+//                   components; anything else raises its overflowed() flag.
+//   BigDyadic       ±M·2^E with M a fixed array of 64-bit limbs. Slower, but exact for
+//                   every finite float or double, denormals included, up to the
+//                   documented degree.
+// Both offer: construction from double and float (exact), + - * and unary -, sign()
+// (exact), approx() (value ≈ mant·2^exp, relative error < 2^-50, works outside the
+// double range), and overflowed() (sticky: the value is meaningless once it is set).
+//
+// Rounding is IEEE binary64, round to nearest even, no excess precision (SSE2 or any
+// target with IEEE double arithmetic). Never compile with -ffast-math. The
+// error-free transformations also need the compiler not to fuse a*b + c across
+// statements (GCC's default -ffp-contract=fast in GNU modes may do so once FMA
+// instructions are enabled): build with -std=c++20 (ISO mode, contraction off in
+// GCC) or -ffp-contract=off/on.
+//
+// Reference: J. R. Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast
+// Robust Geometric Predicates", Discrete Comput. Geom. 18 (1997) — theorem numbers
+// below refer to it. Error bounds use gamma(n) = n·u/(1 − n·u), u = 2^-53 (Higham,
+// "Accuracy and Stability of Numerical Algorithms", 2nd ed., Lemma 3.1).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <initializer_list>
+#include <limits>
+#include <optional>
+#include <span>
+#include <type_traits>
+#include <utility>
+
+namespace rayproof::detail {
+
+// ===================================================================================
+// 1. Error-free transformations
+// ===================================================================================
+
+// An unevaluated sum hi + lo of two doubles.
+struct Pair {
+    double hi, lo;
+};
+
+// Knuth's TwoSum: hi = fl(a + b) and lo = (a + b) − hi exactly. Branch-free, 6 flops,
+// no precondition on the order of a and b. Exact for all finite a, b whose rounded sum
+// does not overflow, subnormals included (the error of a floating-point addition is
+// always a representable number).
+inline Pair two_sum(double a, double b) {
+    const double s = a + b;
+    const double bv = s - a;
+    const double av = s - bv;
+    return {s, (a - av) + (b - bv)};
+}
+
+// Dekker's FastTwoSum: hi = fl(a + b), lo = (a + b) − hi, 3 flops. Exact under the same
+// conditions as two_sum provided a == 0 or exponent(a) >= exponent(b) (in particular
+// when |a| >= |b|).
+inline Pair fast_two_sum(double a, double b) {
+    const double s = a + b;
+    const double bv = s - a;
+    return {s, b - bv};
+}
+
+// TwoProduct with a fused multiply-add: hi = fl(a·b), lo = a·b − hi exactly.
+// Exact when the product does not overflow and its error term is representable. The
+// error is an integer multiple of 2^(la+lb) below 2^53 units, la and lb the exponents
+// of the last bits of a and b, so it is representable exactly when la + lb >= −1074;
+// a sufficient condition is |hi| >= 2^(emin + 2p) = 2^-916, i.e. the error term is not
+// subnormal (then exponent(a) + exponent(b) >= −918, la + lb >= −1022).
+inline Pair two_prod(double a, double b) {
+    const double p = a * b;
+    return {p, std::fma(a, b, -p)};
+}
+
+// value ≈ mant · 2^exp with |mant| in [0.5, 1), or mant == 0 and exp == 0 for zero.
+struct Approx {
+    double mant;
+    long exp;
+};
+
+namespace exact_impl {
+
+inline constexpr double u = 0x1p-53;  // unit roundoff of double
+// gamma(n) = n·u/(1 − n·u) bounds |θ| in Π(1 + δ_i)^±1 = 1 + θ over n roundings |δ_i| <= u.
+constexpr double gamma(int n) { return n * u / (1 - n * u); }
+
+// Below this magnitude a two_prod error term may be subnormal, hence possibly
+// inexact (see two_prod): such products raise the expansion's overflowed() flag.
+inline constexpr double kMinExactProduct = 0x1p-916;
+
+// ---- Expansion kernels on raw arrays. Inputs: nonoverlapping expansions, components
+// sorted by increasing magnitude, no zeros (Shewchuk's strongly nonoverlapping form,
+// which every routine below both requires and produces under round-to-even).
+
+// h = e + s·f for s = ±1 (FAST-EXPANSION-SUM with zero elimination, Theorem 13): merge
+// the components by magnitude, then one chain of two_sums. h has room for m + n.
+inline int sum(const double* e, int m, const double* f, int n, double s, double* h) {
+    if (m + n == 0) return 0;
+    int i = 0, j = 0, k = 0;
+    auto take = [&]() -> double {
+        if (j >= n || (i < m && std::abs(e[i]) < std::abs(f[j]))) return e[i++];
+        return s * f[j++];  // exact: s is ±1
+    };
+    double q = take();
+    for (int t = 1; t < m + n; ++t) {
+        const Pair r = two_sum(q, take());
+        if (r.lo != 0) h[k++] = r.lo;
+        q = r.hi;
+    }
+    if (q != 0) h[k++] = q;
+    return k;
+}
+
+// h = e·b (SCALE-EXPANSION with zero elimination, Theorem 19); h has room for 2m.
+// Sets `tiny` when some product fell below kMinExactProduct (possibly inexact).
+inline int scale(const double* e, int m, double b, double* h, bool& tiny) {
+    Pair p = two_prod(e[0], b);
+    tiny |= !(std::abs(p.hi) >= kMinExactProduct);
+    int k = 0;
+    if (p.lo != 0) h[k++] = p.lo;
+    double q = p.hi;
+    for (int i = 1; i < m; ++i) {
+        p = two_prod(e[i], b);
+        tiny |= !(std::abs(p.hi) >= kMinExactProduct);
+        const Pair s = two_sum(q, p.lo);
+        if (s.lo != 0) h[k++] = s.lo;
+        const Pair f = fast_two_sum(p.hi, s.hi);  // |p.hi| >= |s.hi| (Theorem 19)
+        if (f.lo != 0) h[k++] = f.lo;
+        q = f.hi;
+    }
+    if (q != 0) h[k++] = q;
+    return k;
+}
+
+// COMPRESS (Theorem 23), in place: the same value in a nonadjacent expansion whose
+// largest component approximates the whole with an error below one ulp of it.
+inline int compress(double* e, int m) {
+    if (m <= 1) return m;
+    int bottom = m - 1;
+    double q = e[bottom];
+    for (int i = m - 2; i >= 0; --i) {
+        const Pair r = fast_two_sum(q, e[i]);
+        if (r.lo != 0) {
+            e[bottom--] = r.hi;
+            q = r.lo;
+        } else {
+            q = r.hi;
+        }
+    }
+    int top = 0;
+    for (int i = bottom + 1; i < m; ++i) {
+        const Pair r = fast_two_sum(e[i], q);
+        if (r.lo != 0) e[top++] = r.lo;
+        q = r.hi;
+    }
+    e[top] = q;
+    return top + 1;
+}
+
+inline long floor_div64(long e) { return e >= 0 ? e / 64 : -((-e + 63) / 64); }
+
+}  // namespace exact_impl
+
+// ===================================================================================
+// 2. Expansion<Cap>
+// ===================================================================================
+//
+// A Shewchuk expansion: the exact value is the sum of c_[0..n_), nonoverlapping,
+// increasing magnitude, no zero components, at most Cap of them; no heap.
+//
+// Exactness. Sums and differences are always exact (barring overflow, which is
+// flagged). A product is exact when every two_prod inside it is, i.e. its error term
+// is representable (see two_prod); a product falling below 2^-916 raises the flag, so
+// !overflowed() always means the value is exact. The flag never rises for range
+// reasons when the inputs pass expansion_safe and the computed quantity is a
+// polynomial of degree <= 6 in them (derivation at expansion_safe); for other inputs
+// the caller reruns with BigDyadic (with_exact does it).
+//
+// overflowed() is sticky and propagates through every operation: it is set when a
+// result (or a partial product) needs more than Cap components after compression,
+// when a component becomes non-finite, when a product may be inexact, or when the
+// expansion was built from a NaN or an infinity.
+template <int Cap> class Expansion {
+    static_assert(Cap >= 2, "an expansion needs room for at least two components");
+
+public:
+    static constexpr int capacity = Cap;
+
+    Expansion() noexcept {}
+    Expansion(double x) noexcept : bad_(!std::isfinite(x)) {  // exact
+        if (x != 0 && !bad_) c_[n_++] = x;
+    }
+    Expansion(float x) noexcept : Expansion(static_cast<double>(x)) {}  // exact
+    Expansion(const Expansion& o) noexcept : n_(o.n_), bad_(o.bad_) { std::copy_n(o.c_, o.n_, c_); }
+    Expansion& operator=(const Expansion& o) noexcept {
+        n_ = o.n_;
+        bad_ = o.bad_;
+        std::copy_n(o.c_, o.n_, c_);
+        return *this;
+    }
+
+    bool overflowed() const { return bad_; }
+    // Exact sign of the value: that of the largest component (the others sum to less
+    // than its last bit). Meaningless when overflowed().
+    int sign() const { return n_ == 0 ? 0 : (c_[n_ - 1] > 0 ? 1 : -1); }
+    int size() const { return n_; }
+    std::span<const double> components() const { return {c_, static_cast<std::size_t>(n_)}; }
+
+    // value ≈ mant·2^exp, relative error < 2^-51: after compression the top component
+    // is within one ulp of the value (Theorem 23), adding the next one leaves a
+    // remainder below that, and the addition rounds once.
+    Approx approx() const {
+        if (n_ == 0) return {0.0, 0};
+        double top = c_[0], next = 0;
+        if (n_ >= 2) {
+            double h[Cap] = {};
+            std::copy_n(c_, n_, h);
+            const int k = exact_impl::compress(h, n_);
+            top = h[k - 1];
+            next = k >= 2 ? h[k - 2] : 0.0;
+        }
+        int e = 0;
+        (void)std::frexp(top, &e);
+        double m = std::ldexp(top, -e) + std::ldexp(next, -e);
+        int e2 = 0;
+        m = std::frexp(m, &e2);
+        return {m, static_cast<long>(e) + e2};
+    }
+
+    // Rewrite in place as a compressed (nonadjacent) expansion of the same value.
+    void compress() { n_ = exact_impl::compress(c_, n_); }
+
+    friend Expansion operator-(const Expansion& a) {
+        Expansion r;
+        r.bad_ = a.bad_;
+        r.n_ = a.n_;
+        for (int i = 0; i < a.n_; ++i) r.c_[i] = -a.c_[i];
+        return r;
+    }
+    friend Expansion operator+(const Expansion& a, const Expansion& b) { return add(a, b, 1.0); }
+    friend Expansion operator-(const Expansion& a, const Expansion& b) { return add(a, b, -1.0); }
+    friend Expansion operator*(const Expansion& a, const Expansion& b) {
+        if (a.bad_ || b.bad_) return flagged();
+        if (a.n_ == 0 || b.n_ == 0) return Expansion();
+        const Expansion& l = a.n_ >= b.n_ ? a : b;  // the longer one is scaled
+        const Expansion& s = a.n_ >= b.n_ ? b : a;
+        bool tiny = false;
+        double buf0[4 * Cap], buf1[4 * Cap], t[2 * Cap];
+        double* acc = buf0;
+        double* nxt = buf1;
+        int k = exact_impl::scale(l.c_, l.n_, s.c_[0], acc, tiny);
+        for (int j = 1; j < s.n_; ++j) {  // acc += l·s_j, kept within 2·Cap components
+            const int tl = exact_impl::scale(l.c_, l.n_, s.c_[j], t, tiny);
+            k = exact_impl::sum(acc, k, t, tl, 1.0, nxt);
+            std::swap(acc, nxt);
+            if (k > 2 * Cap) k = exact_impl::compress(acc, k);
+            if (k > 2 * Cap) return flagged();
+        }
+        if (k > 2) k = exact_impl::compress(acc, k);  // products shrink a lot when compressed
+        return store(acc, k, tiny);
+    }
+    Expansion& operator+=(const Expansion& o) { return *this = *this + o; }
+    Expansion& operator-=(const Expansion& o) { return *this = *this - o; }
+    Expansion& operator*=(const Expansion& o) { return *this = *this * o; }
+
+private:
+    static Expansion flagged() {
+        Expansion r;
+        r.bad_ = true;
+        return r;
+    }
+    // The result from a scratch buffer: compressed if it is too long, flagged if it
+    // still is, or if any component is non-finite, or if a product may be inexact.
+    static Expansion store(double* h, int k, bool bad) {
+        if (k > Cap) k = exact_impl::compress(h, k);
+        if (bad || k > Cap) return flagged();
+        Expansion r;
+        bool finite = true;
+        for (int i = 0; i < k; ++i) {
+            finite &= std::abs(h[i]) <= std::numeric_limits<double>::max();  // false for inf, NaN
+            r.c_[i] = h[i];
+        }
+        if (!finite) return flagged();
+        r.n_ = k;
+        return r;
+    }
+    static Expansion add(const Expansion& a, const Expansion& b, double s) {
+        if (a.bad_ || b.bad_) return flagged();
+        if (b.n_ == 0) return a;
+        if (a.n_ == 0) return s > 0 ? b : -b;
+        double h[2 * Cap];
+        int k = 0;
+        if (a.n_ == 1 && b.n_ == 1) {  // the common case: one two_sum
+            const Pair r = two_sum(a.c_[0], s * b.c_[0]);
+            if (r.lo != 0) h[k++] = r.lo;
+            if (r.hi != 0) h[k++] = r.hi;
+        } else {
+            k = exact_impl::sum(a.c_, a.n_, b.c_, b.n_, s, h);
+        }
+        return store(h, k, false);
+    }
+
+    double c_[Cap];
+    int n_ = 0;
+    bool bad_ = false;
+};
+
+// ===================================================================================
+// 3. BigDyadic
+// ===================================================================================
+//
+// The exact dyadic rational (−1)^neg · M · 2^(64·lexp), M = Σ limb[i]·2^(64 i) over the
+// limbs in use; the exponent is kept a whole number of limbs so that aligning two
+// operands never shifts bits. Normalized: no zero limb at either end (zero is n = 0).
+//
+// Capacity: kCapacity = 232 limbs = 14848 bits. Every double or float is an integer
+// multiple of 2^-1074 below 2^1024, so a product of k of them is a multiple of
+// 2^(-1074k) below 2^(1024k): a polynomial of total degree <= 7 in doubles, with up to
+// 2^16 monomials, spans 7·(1074 + 1024) + 16 = 14702 bits, plus at most 63 bits of
+// limb alignment: 14765 <= 14848. Any such value and every intermediate of computing
+// it therefore fits. Past that overflowed() is set (never a crash or an assertion).
+class BigDyadic {
+public:
+    static constexpr int kCapacity = 232;
+
+    BigDyadic() noexcept {}
+    BigDyadic(double x) noexcept {  // exact
+        if (!std::isfinite(x)) {
+            of_ = true;
+            return;
+        }
+        if (x == 0) return;
+        const std::uint64_t bits = std::bit_cast<std::uint64_t>(x);
+        neg_ = (bits >> 63) != 0;
+        const int ef = static_cast<int>((bits >> 52) & 0x7ff);
+        std::uint64_t m = bits & ((std::uint64_t(1) << 52) - 1);
+        long e = -1074;  // subnormal: m·2^-1074
+        if (ef != 0) {
+            m |= std::uint64_t(1) << 52;
+            e = ef - 1075;
+        }
+        const long q = exact_impl::floor_div64(e);  // e = 64q + r, 0 <= r < 64
+        const int r = static_cast<int>(e - 64 * q);
+        limb_[0] = m << r;
+        limb_[1] = r == 0 ? 0 : m >> (64 - r);
+        n_ = 2;
+        lexp_ = q;
+        normalize();
+    }
+    BigDyadic(float x) noexcept : BigDyadic(static_cast<double>(x)) {}  // exact
+    BigDyadic(const BigDyadic& o) noexcept : n_(o.n_), neg_(o.neg_), of_(o.of_), lexp_(o.lexp_) {
+        std::copy_n(o.limb_, o.n_, limb_);
+    }
+    BigDyadic& operator=(const BigDyadic& o) noexcept {
+        n_ = o.n_;
+        neg_ = o.neg_;
+        of_ = o.of_;
+        lexp_ = o.lexp_;
+        std::copy_n(o.limb_, o.n_, limb_);
+        return *this;
+    }
+
+    bool overflowed() const { return of_; }
+    int sign() const { return n_ == 0 ? 0 : (neg_ ? -1 : 1); }
+    // Representation, for tests and printing: value = ±Σ limb(i)·2^(64·(i + limb_exponent())).
+    int limb_count() const { return n_; }
+    std::uint64_t limb(int i) const { return limb_[i]; }
+    long limb_exponent() const { return lexp_; }
+
+    // value ≈ mant·2^exp: the top 64 bits of M with a sticky bit, correctly rounded to
+    // double, so the relative error is at most 2^-53.
+    Approx approx() const {
+        if (n_ == 0) return {0.0, 0};
+        const std::uint64_t top = limb_[n_ - 1];
+        const int sh = std::countl_zero(top);
+        std::uint64_t m = top << sh;
+        bool sticky = n_ >= 3;  // normalized: the lowest limb is nonzero
+        if (n_ >= 2) {
+            const std::uint64_t below = limb_[n_ - 2];
+            if (sh != 0) m |= below >> (64 - sh);
+            sticky |= (sh == 0 ? below : below << sh) != 0;
+        }
+        m |= sticky ? 1 : 0;  // bit 0 lies below the rounding position: breaks ties right
+        int e = 0;
+        double mant = std::frexp(static_cast<double>(m), &e);
+        if (neg_) mant = -mant;
+        return {mant, e + 64 * (lexp_ + n_ - 1) - sh};
+    }
+
+    friend BigDyadic operator-(const BigDyadic& a) {
+        BigDyadic r(a);
+        if (r.n_ != 0) r.neg_ = !r.neg_;
+        return r;
+    }
+    friend BigDyadic operator+(const BigDyadic& a, const BigDyadic& b) { return add(a, b, false); }
+    friend BigDyadic operator-(const BigDyadic& a, const BigDyadic& b) { return add(a, b, true); }
+    // Schoolbook product of the limbs in use, 128-bit partial products.
+    friend BigDyadic operator*(const BigDyadic& a, const BigDyadic& b) {
+        BigDyadic r;
+        if (a.of_ || b.of_ || a.n_ + b.n_ - 1 > kCapacity) return flagged();  // needs >= na+nb-1 limbs
+        if (a.n_ == 0 || b.n_ == 0) return r;
+        std::fill_n(r.limb_, a.n_ + b.n_, std::uint64_t(0));
+        for (int i = 0; i < a.n_; ++i) {
+            std::uint64_t carry = 0;
+            for (int j = 0; j < b.n_; ++j) {
+                const u128 t = u128(a.limb_[i]) * b.limb_[j] + r.limb_[i + j] + carry;
+                r.limb_[i + j] = static_cast<std::uint64_t>(t);
+                carry = static_cast<std::uint64_t>(t >> 64);
+            }
+            r.limb_[i + b.n_] = carry;
+        }
+        r.n_ = a.n_ + b.n_;
+        r.lexp_ = a.lexp_ + b.lexp_;
+        r.neg_ = a.neg_ != b.neg_;
+        r.normalize();
+        return r;
+    }
+    BigDyadic& operator+=(const BigDyadic& o) { return *this = *this + o; }
+    BigDyadic& operator-=(const BigDyadic& o) { return *this = *this - o; }
+    BigDyadic& operator*=(const BigDyadic& o) { return *this = *this * o; }
+
+private:
+    __extension__ typedef unsigned __int128 u128;
+
+    static BigDyadic flagged() {
+        BigDyadic r;
+        r.of_ = true;
+        return r;
+    }
+    // Limb at absolute position k (weight 2^(64k)), 0 outside the limbs in use.
+    std::uint64_t at(long k) const {
+        const long i = k - lexp_;
+        return i >= 0 && i < n_ ? limb_[i] : 0;
+    }
+    // Drop zero limbs at both ends; flag if the result is still too long.
+    void normalize() {
+        while (n_ > 0 && limb_[n_ - 1] == 0) --n_;
+        if (n_ == 0) {
+            neg_ = false;
+            lexp_ = 0;
+            return;
+        }
+        int z = 0;
+        while (limb_[z] == 0) ++z;
+        if (z != 0) {
+            std::memmove(limb_, limb_ + z, sizeof(std::uint64_t) * static_cast<std::size_t>(n_ - z));
+            n_ -= z;
+            lexp_ += z;
+        }
+        if (n_ > kCapacity) *this = flagged();
+    }
+    // Compare |a| and |b| (both normalized, nonzero).
+    static int cmp_mag(const BigDyadic& a, const BigDyadic& b) {
+        const long ta = a.lexp_ + a.n_, tb = b.lexp_ + b.n_;
+        if (ta != tb) return ta > tb ? 1 : -1;
+        const long lo = std::min(a.lexp_, b.lexp_);
+        for (long k = ta - 1; k >= lo; --k) {
+            const std::uint64_t x = a.at(k), y = b.at(k);
+            if (x != y) return x > y ? 1 : -1;
+        }
+        return 0;
+    }
+    static BigDyadic add(const BigDyadic& a, const BigDyadic& b, bool negate_b) {
+        if (a.of_ || b.of_) return flagged();
+        if (b.n_ == 0) return a;
+        if (a.n_ == 0) return negate_b ? -b : b;
+        const bool nb = b.neg_ != negate_b;
+        const long lo = std::min(a.lexp_, b.lexp_);
+        const long span = std::max(a.lexp_ + a.n_, b.lexp_ + b.n_) - lo;
+        BigDyadic r;
+        r.lexp_ = lo;
+        if (a.neg_ == nb) {  // |a| + |b|: needs >= span limbs
+            if (span > kCapacity) return flagged();
+            std::uint64_t carry = 0;
+            for (long i = 0; i < span; ++i) {
+                const u128 s = u128(a.at(lo + i)) + b.at(lo + i) + carry;
+                r.limb_[i] = static_cast<std::uint64_t>(s);
+                carry = static_cast<std::uint64_t>(s >> 64);
+            }
+            r.limb_[span] = carry;
+            r.n_ = static_cast<int>(span + 1);
+            r.neg_ = a.neg_;
+        } else {  // ||a| − |b||: the top drops by at most one limb, so needs >= span − 1 limbs
+            if (span > kCapacity + 1) return flagged();
+            const int c = cmp_mag(a, b);
+            if (c == 0) return BigDyadic();
+            const BigDyadic& big = c > 0 ? a : b;
+            const BigDyadic& small = c > 0 ? b : a;
+            std::uint64_t borrow = 0;
+            for (long i = 0; i < span; ++i) {
+                const std::uint64_t x = big.at(lo + i), y = small.at(lo + i);
+                const std::uint64_t d = x - y - borrow;
+                borrow = (x < y || (x == y && borrow)) ? 1 : 0;
+                r.limb_[i] = d;
+            }
+            r.n_ = static_cast<int>(span);
+            r.neg_ = c > 0 ? a.neg_ : nb;
+        }
+        r.normalize();
+        return r;
+    }
+
+    std::uint64_t limb_[kCapacity + 1];  // one spare limb for a carry or a product's top
+    int n_ = 0;
+    bool neg_ = false;
+    bool of_ = false;
+    long lexp_ = 0;  // exponent in limbs: the lowest limb weighs 2^(64·lexp_)
+};
+
+// Exact conversion of an expansion (the flag carries over).
+template <int Cap> BigDyadic to_big_dyadic(const Expansion<Cap>& e) {
+    if (e.overflowed()) return BigDyadic(std::numeric_limits<double>::quiet_NaN());
+    BigDyadic r;
+    for (double c : e.components()) r += BigDyadic(c);
+    return r;
+}
+
+template <class E> struct is_expansion : std::false_type {};
+template <int Cap> struct is_expansion<Expansion<Cap>> : std::true_type {};
+template <class E> inline constexpr bool is_expansion_v = is_expansion<E>::value;
+
+// True when any of the exact values has its overflowed() flag set.
+template <class... E> bool any_overflowed(const E&... e) { return (e.overflowed() || ...); }
+
+// ===================================================================================
+// 4. Which exact type: expansion_safe
+// ===================================================================================
+//
+// expansion_safe(x): x == 0, or |x| in [2^-100, 2^100] for double; every finite float.
+// Derivation. Call g the grain of an expansion when all its components are integer
+// multiples of 2^g. A double with |x| >= 2^-100 has grain >= −152 (its last bit).
+// two_sum and fast_two_sum keep the grain (rounding a multiple of 2^g to a double
+// gives a multiple of 2^g; the error is a difference of such), so sums and
+// differences of inputs, at any depth, have grain >= −152. A product of grains g1, g2
+// has grain g1 + g2, so a product of k such factors has grain >= −152k. For k <= 6
+// that is >= −912: every nonzero component is >= 2^-912 > 2^-916, so no two_prod can
+// fall below kMinExactProduct (the flag never rises for range reasons), every error
+// term is a normal number, and IEEE arithmetic coincides with the unbounded-exponent
+// model of Shewchuk's proofs. (k = 7 still gives grain −1064 >= −1074: still exact,
+// but the flag may rise and force the BigDyadic rerun.) Upper end: |x| <= 2^100, so
+// differences are < 2^102, degree-6 products < 2^612 and sums of 2^16 of them
+// < 2^628, far below 2^1024: no overflow. The brief's magnitude version checks the
+// same way: components of differences >= 2^(-100-52), degree-5 products
+// >= 2^(-152·5) = 2^-760, their two_prod error terms within 2^-106 of that, >= 2^-866,
+// well above 2^-1022. Floats: every finite float has grain >= −149 and magnitude
+// < 2^128, so degree-6 products have grain >= −894 (> −916: no flag) and magnitude
+// < 2^(6·129) = 2^774 (sums of 2^16 of them < 2^790): every finite float is safe.
+template <class T>
+    requires(std::is_same_v<T, float> || std::is_same_v<T, double>)
+bool expansion_safe(T x) {
+    if constexpr (std::is_same_v<T, float>) {
+        return std::isfinite(x);
+    } else {
+        const double a = std::abs(x);
+        return a == 0 || (a >= 0x1p-100 && a <= 0x1p100);  // false for NaN and inf
+    }
+}
+template <class T> bool expansion_safe(std::initializer_list<T> xs) {
+    for (T x : xs)
+        if (!expansion_safe(x)) return false;
+    return true;
+}
+template <class Derived> bool expansion_safe(const Eigen::DenseBase<Derived>& m) {
+    for (Eigen::Index j = 0; j < m.cols(); ++j)
+        for (Eigen::Index i = 0; i < m.rows(); ++i)
+            if (!expansion_safe(m(i, j))) return false;
+    return true;
+}
+
+// ===================================================================================
+// 5. The dispatcher and the exact decisions
+// ===================================================================================
+
+// Names an exact type for a generic lambda: [&](auto tag) { using E = typename decltype(tag)::type; ... }
+template <class E> struct exact_tag {
+    using type = E;
+};
+
+inline constexpr int kDefaultExpansionCap = 32;
+
+template <class R> struct is_optional : std::false_type {};
+template <class V> struct is_optional<std::optional<V>> : std::true_type {};
+
+// Run an exact algorithm written once for both exact types.
+//   f(exact_tag<E>{}) computes with E and returns std::optional<V>: std::nullopt when
+//   a value it relied on overflowed() (any_overflowed helps), else the answer.
+// When `safe` (usually expansion_safe of every input), f first runs with
+// Expansion<Cap>; if it returns nullopt, or when !safe, f runs with BigDyadic. The
+// result is f's: nullopt only if BigDyadic's capacity was exceeded too, which cannot
+// happen within its documented degree (see BigDyadic).
+//   auto s = with_exact(expansion_safe({a, b, c}), [&](auto tag) -> std::optional<int> {
+//       using E = typename decltype(tag)::type;
+//       const E v = E(a) * E(b) - E(c);
+//       if (v.overflowed()) return std::nullopt;
+//       return v.sign();
+//   });
+template <int Cap = kDefaultExpansionCap, class F> auto with_exact(bool safe, F&& f) {
+    using R = std::invoke_result_t<F&, exact_tag<BigDyadic>>;
+    static_assert(is_optional<R>::value, "the exact algorithm returns std::optional<V>");
+    static_assert(std::is_same_v<R, std::invoke_result_t<F&, exact_tag<Expansion<Cap>>>>,
+                  "the exact algorithm returns the same type for both exact types");
+    if (safe) {
+        R r = f(exact_tag<Expansion<Cap>>{});
+        if (r) return r;
+    }
+    return f(exact_tag<BigDyadic>{});
+}
+
+namespace exact_impl {
+
+// sign(num/den − x) = sign(num − x·den)·sign(den), exact; x finite. nullopt when an
+// expansion overflowed on the way (x·den may fall outside the expansion's range).
+template <class E, class T> std::optional<int> side(const E& num, const E& den, int sden, T x) {
+    const E r = num - E(x) * den;
+    if (r.overflowed()) return std::nullopt;
+    return r.sign() * sden;
+}
+
+// The faithful quotient; nullopt if an expansion overflowed on the way.
+template <class T, class E> std::optional<T> quotient(const E& num, const E& den) {
+    constexpr T kMax = std::numeric_limits<T>::max();
+    constexpr T kInf = std::numeric_limits<T>::infinity();
+    constexpr long kMaxExp = std::numeric_limits<T>::max_exponent;  // max < 2^kMaxExp
+    constexpr long kMinExp = std::numeric_limits<T>::min_exponent - std::numeric_limits<T>::digits;  // denorm_min = 2^kMinExp
+    const int sden = den.sign();
+    const Approx an = num.approx(), ad = den.approx();
+    if (an.mant == 0) return T(0);
+    // Candidate: q ≈ (an.mant/ad.mant)·2^(an.exp − ad.exp), |an.mant/ad.mant| in (0.5, 2),
+    // a few ulps from the quotient; exponents kept apart so it works outside T's range.
+    // The exact stepping below makes the answer right whatever the candidate.
+    const double m = an.mant / ad.mant;
+    const long e = an.exp - ad.exp;
+    T q;
+    if (e > kMaxExp + 1) {
+        q = std::copysign(kMax, static_cast<T>(m));  // |quotient| > 2^(kMaxExp+1)·(1 − 2^-49)
+    } else if (e < kMinExp - 2) {
+        q = 0;  // |quotient| < 2^(kMinExp−2)·(1 + 2^-49)
+    } else {
+        q = std::ldexp(static_cast<T>(m), static_cast<int>(e));
+        if (std::isinf(q)) q = std::copysign(kMax, q);
+    }
+    // Step towards the quotient one T at a time until it is bracketed.
+    const std::optional<int> s0 = side(num, den, sden, q);
+    if (!s0) return std::nullopt;
+    const int s = *s0;  // sign(quotient − q), constant while stepping
+    while (s != 0) {
+        const T next = std::nextafter(q, s > 0 ? kInf : -kInf);
+        if (std::isinf(next)) break;  // quotient beyond ±max: q = ±max encloses it
+        const std::optional<int> s1 = side(num, den, sden, next);
+        if (!s1) return std::nullopt;
+        if (*s1 != s) {  // next == quotient, or quotient strictly between q and next
+            if (*s1 == 0) q = next;
+            break;
+        }
+        q = next;
+    }
+    return q == 0 ? T(0) : q;  // +0, never -0
+}
+
+}  // namespace exact_impl
+
+// num/den faithfully rounded to T (float or double): the quotient itself when it is
+// representable, otherwise one of the two adjacent T values enclosing it. Beyond the
+// largest finite T the answer is ±numeric_limits<T>::max() (the enclosing finite
+// neighbour; infinity is never returned); a nonzero quotient below the smallest
+// subnormal gives 0 or the smallest subnormal of its sign; zero is always +0.0.
+// Preconditions: den != 0, neither input overflowed() (otherwise returns 0).
+// An Expansion whose check products leave the expansion range (for instance a
+// subnormal quotient) is redone exactly with BigDyadic.
+template <class T, class E> T faithful_quotient(const E& num, const E& den) {
+    static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
+    if (any_overflowed(num, den) || den.sign() == 0) return T(0);
+    if (const std::optional<T> q = exact_impl::quotient<T>(num, den)) return *q;
+    if constexpr (is_expansion_v<E>) {
+        return faithful_quotient<T>(to_big_dyadic(num), to_big_dyadic(den));
+    } else {
+        return T(0);  // unreachable within BigDyadic's documented capacity
+    }
+}
+
+// sign(n1/d1 − n2/d2), exact: sign(n1·d2 − n2·d1)·sign(d1)·sign(d2). Preconditions:
+// d1, d2 != 0, no input overflowed(). An Expansion overflow is redone with BigDyadic.
+template <class E> int compare_quotients(const E& n1, const E& d1, const E& n2, const E& d2) {
+    const E x = n1 * d2 - n2 * d1;
+    if constexpr (is_expansion_v<E>) {
+        if (x.overflowed() && !any_overflowed(n1, d1, n2, d2))
+            return compare_quotients(to_big_dyadic(n1), to_big_dyadic(d1), to_big_dyadic(n2), to_big_dyadic(d2));
+    }
+    return x.sign() * d1.sign() * d2.sign();
+}
+
+// sign(num/den − t) for a finite T value t, exact. Preconditions as compare_quotients.
+template <class E, class T> int compare_quotient(const E& num, const E& den, T t) {
+    static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
+    if (const std::optional<int> s = exact_impl::side(num, den, den.sign(), t)) return *s;
+    if constexpr (is_expansion_v<E>) {
+        if (!any_overflowed(num, den)) return compare_quotient(to_big_dyadic(num), to_big_dyadic(den), t);
+    }
+    return 0;  // an overflowed input: meaningless
+}
+
+// The determinant a(ei − fh) − b(di − fg) + c(dh − eg) in an exact type.
+template <class E, class T> E det3_exact(const Eigen::Matrix<T, 3, 3>& m) {
+    const E a(m(0, 0)), b(m(0, 1)), c(m(0, 2));
+    const E d(m(1, 0)), e(m(1, 1)), f(m(1, 2));
+    const E g(m(2, 0)), h(m(2, 1)), i(m(2, 2));
+    return a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+}
+
+// Exact sign of det(m) for any finite entries (0 for a non-finite entry).
+// Filter: when every nonzero entry is in [2^-300, 2^300] (always for float), the
+// determinant is evaluated in double as a(ei − fh) − b(di − fg) + c(dh − eg) with no
+// overflow and no underflow (products of two entries are normal and >= 2^-600, hence
+// multiples of 2^-652, so a nonzero minor is >= 2^-652 and a·minor >= 2^-952), so each
+// monomial sees at most 5 roundings (product, difference, product, two sums; fewer if
+// the compiler fuses): |det_fl − det| <= gamma(5)·P, P = Σ|monomials|. The permanent
+// P_fl, evaluated the same way on |entries|, satisfies P <= P_fl/(1 − gamma(5)), so
+// the error is <= gamma(5)/(1 − gamma(5))·P_fl <= gamma(6)·P_fl. The bound computed
+// as fl(fl(gamma(7))·P_fl) >= gamma(7)(1 − u)^2·P_fl >= gamma(6)·P_fl, so
+// |det_fl| > bound proves the sign. Otherwise: exact, Expansion when the entries are
+// expansion_safe (degree 3), else or on overflow BigDyadic.
+template <class T> int det3_sign(const Eigen::Matrix<T, 3, 3>& m) {
+    static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
+    bool filterable = true;
+    for (int k = 0; k < 9; ++k) {
+        const double x = std::abs(static_cast<double>(m.data()[k]));
+        filterable &= x == 0 || (x >= 0x1p-300 && x <= 0x1p300);  // false for NaN, inf
+    }
+    if (filterable) {
+        const double a = m(0, 0), b = m(0, 1), c = m(0, 2);
+        const double d = m(1, 0), e = m(1, 1), f = m(1, 2);
+        const double g = m(2, 0), h = m(2, 1), i = m(2, 2);
+        const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+        const double perm = std::abs(a) * (std::abs(e) * std::abs(i) + std::abs(f) * std::abs(h)) +
+                            std::abs(b) * (std::abs(d) * std::abs(i) + std::abs(f) * std::abs(g)) +
+                            std::abs(c) * (std::abs(d) * std::abs(h) + std::abs(e) * std::abs(g));
+        constexpr double kBound = exact_impl::gamma(7);
+        const double bound = kBound * perm;
+        if (det > bound) return 1;
+        if (-det > bound) return -1;
+    }
+    const std::optional<int> s = with_exact(expansion_safe(m), [&](auto tag) -> std::optional<int> {
+        using E = typename decltype(tag)::type;
+        const E det = det3_exact<E>(m);
+        if (det.overflowed()) return std::nullopt;
+        return det.sign();
+    });
+    return s.value_or(0);  // nullopt only for a non-finite entry
+}
+
+}  // namespace rayproof::detail

@@ -1,0 +1,44 @@
+// rayproof/intersect.hpp — the public entry points: one ray or a batch of rays against
+// one shape, in one of the three modes. The scalar and the batch forms share one code
+// path (detail::query on a prepared shape), so they cannot disagree.
+#pragma once
+
+#include <rayproof/types.hpp>
+
+#include <concepts>
+#include <span>
+#include <stdexcept>
+
+namespace rayproof {
+
+// True when the kernel answers this combination (every shape, scalar type and mode
+// named by the contract once all modes are implemented).
+template <class T, class Shape, class Mode>
+concept Answerable = is_scalar_v<T> && is_shape_v<Shape, T> && is_mode_v<Mode> &&
+    requires(const Ray<T>& r, const Shape& s, Mode m) {
+        { detail::query(r, detail::prepare(s), m) } -> std::same_as<Hit<T>>;
+    };
+
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode) {
+    return detail::query(ray, detail::prepare(shape), mode);
+}
+
+// Batch form: out[i] = intersect(rays[i], shape, mode). The shape is validated and
+// prepared once. Precondition, checked: out.size() == rays.size() (std::invalid_argument).
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+void intersect(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::span<Hit<T>> out) {
+    if (out.size() != rays.size())
+        throw std::invalid_argument("rayproof::intersect: out.size() must equal rays.size()");
+    const auto prepared = detail::prepare(shape);
+    for (std::size_t i = 0; i < rays.size(); ++i) out[i] = detail::query(rays[i], prepared, mode);
+}
+
+// The same ray traversed backwards: the set { o + s·(-d) : s in [-t_max, -t_min] }.
+// Its interval against a shape is [-t_exit, -t_enter] of the original, and its entry
+// face is the original's exit face (negation is exact, so no accuracy is lost).
+template <class T> Ray<T> reversed(const Ray<T>& r) { return Ray<T>{r.origin, -r.direction, -r.t_max, -r.t_min}; }
+
+}  // namespace rayproof

@@ -1,0 +1,184 @@
+// rayproof/ray_plane.hpp — ray against plane.
+//
+// Shape:     the surface { p : n·p == offset } (a plane, not a half-space).
+// Query:     the ray crosses it at the single t = (offset - n·o) / (n·d) when n·d != 0:
+//            hit iff t_min <= t <= t_max, t_enter = t_exit = t. When n·d == 0 the ray is
+//            parallel: it lies in the plane (hit on its whole range, t_enter = t_min,
+//            t_exit = t_max) iff n·o == offset, otherwise it misses. face is always -1.
+// Algorithm: direct evaluation (Ericson, Real-Time Collision Detection, 5.3.1).
+// Degenerate cases: a ray lying in the plane; a parallel ray off the plane; a crossing
+//            exactly at t_min or t_max; nearly parallel rays, where n·d is tiny and the
+//            rounded t is large and unreliable.
+// Modes:     fast — num = offset - n·o has error <= gamma(4)·(|offset| + Σ|n_i o_i|) and
+//            den = n·d <= gamma(3)·Σ|n_i d_i|; when den is of the order of its own error
+//            bound, even its sign (and so the verdict) is unknown. Measured, not promised.
+//            conservative — num and den in interval arithmetic with outward rounding
+//            (in double for both scalar types); the sign of den, and whether a parallel
+//            ray lies in the plane, are decided exactly when the intervals hold zero;
+//            t is the interval quotient, unbounded on one side when |den| may be tiny.
+//            certified — the intervals decide what they separate; otherwise exact
+//            arithmetic (detail/exact.hpp): sign(den) and sign(num) are degree 2, the
+//            position of t against t_min/t_max sign(num - t_min·den)·sign(den) degree
+//            3; t is rounded faithfully from the interval when it lies strictly between
+//            the neighbours of its midpoint, else exactly.
+#pragma once
+
+#include <rayproof/detail/exact.hpp>
+#include <rayproof/detail/interval.hpp>
+#include <rayproof/detail/slab_certified.hpp>
+#include <rayproof/detail/validate.hpp>
+
+namespace rayproof::detail {
+
+template <class T> struct PreparedPlane {
+    Plane<T> plane;
+    bool ok;
+};
+template <class T> PreparedPlane<T> prepare(const Plane<T>& p) { return {p, valid(p)}; }
+
+template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, fast_t) {
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
+    const T den = p.plane.normal.dot(r.direction);
+    const T num = p.plane.offset - p.plane.normal.dot(r.origin);
+    Hit<T> h;
+    if (den == 0) {
+        if (num == 0) {
+            h.verdict = Verdict::hit;
+            h.t_enter = r.t_min;
+            h.t_exit = r.t_max;
+        }
+        return h;
+    }
+    const T t = num / den;
+    if (r.t_min <= t && t <= r.t_max) {
+        h.verdict = Verdict::hit;
+        h.t_enter = h.t_exit = t;
+    }
+    return h;
+}
+
+// The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures
+// and the exact values on demand.
+template <class T> class PlaneCrossing {
+public:
+    PlaneCrossing(const Ray<T>& r, const Plane<T>& p) : r_(&r), p_(&p) {
+        Interval<double> n(double(p.offset)), d(0.0);
+        for (int j = 0; j < 3; ++j) {
+            const Interval<double> nj(double(p.normal[j]));
+            n = n - nj * Interval<double>(double(r.origin[j]));
+            d = d + nj * Interval<double>(double(r.direction[j]));
+        }
+        num_ = n;
+        den_ = d;
+        const int s = d.certain_sign();
+        sden_ = s != 2 ? s : exact_sign([&](auto tag) { return den<typename decltype(tag)::type>(); });
+    }
+    int den_sign() const { return sden_; }
+    // parallel ray: does it lie in the plane (num == 0)?
+    bool in_plane() const {
+        const int s = num_.certain_sign();
+        if (s != 2) return s == 0;
+        return exact_sign([&](auto tag) { return num<typename decltype(tag)::type>(); }) == 0;
+    }
+    Interval<double> enclose() const { return divide_signed(num_, den_, sden_); }
+    // Interface of the slab frames, for exact_compare / exact_faithful (axis 0 only).
+    template <class E> E num(int = 0, int = 0) const {
+        E s(double(p_->offset));
+        for (int j = 0; j < 3; ++j) s = s - E(double(p_->normal[j])) * E(double(r_->origin[j]));
+        return s;
+    }
+    template <class E> E den(int = 0) const {
+        E s(0.0);
+        for (int j = 0; j < 3; ++j) s = s + E(double(p_->normal[j])) * E(double(r_->direction[j]));
+        return s;
+    }
+    bool safe() const {
+        return expansion_safe(r_->origin) && expansion_safe(r_->direction) && expansion_safe(p_->normal) &&
+               expansion_safe(p_->offset);
+    }
+
+private:
+    template <class F> int exact_sign(F&& value) const {
+        return *with_exact(safe(), [&](auto tag) -> std::optional<int> {
+            const auto v = value(tag);
+            if (v.overflowed()) return std::nullopt;
+            return v.sign();
+        });
+    }
+    const Ray<T>* r_;
+    const Plane<T>* p_;
+    Interval<double> num_, den_;
+    int sden_;
+};
+
+template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, conservative_t) {
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
+    const PlaneCrossing<T> x(r, p.plane);
+    Hit<T> h;
+    if (x.den_sign() == 0) {
+        if (!x.in_plane()) return h;
+        h.verdict = Verdict::hit;
+        h.t_enter = r.t_min;
+        h.t_exit = r.t_max;
+        return h;
+    }
+    const Interval<double> t = x.enclose();
+    const double lo = std::max(t.lo, double(r.t_min)), hi = std::min(t.hi, double(r.t_max));
+    if (!(lo <= hi)) return h;
+    h.verdict = Verdict::hit;
+    h.t_enter = round_down_to<T>(lo);
+    h.t_exit = round_up_to<T>(hi);
+    return h;
+}
+
+template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
+    RAYPROOF_COUNT_QUERY();
+    bool went_exact = false;
+    const PlaneCrossing<T> x(r, p.plane);
+    Hit<T> h;
+    if (x.den_sign() == 0) {
+        if (!x.in_plane()) return h;
+        h.verdict = Verdict::hit;
+        h.t_enter = r.t_min;
+        h.t_exit = r.t_max;
+        return h;
+    }
+    const Interval<double> t = x.enclose();
+    const SlabRef crossing{0, 0, 0};
+    // t_min <= t ?
+    bool after_min;
+    if (t.lo >= double(r.t_min)) {
+        after_min = true;
+    } else if (t.hi < double(r.t_min)) {
+        after_min = false;
+    } else {
+        RAYPROOF_COUNT_EXACT(went_exact);
+        after_min = exact_compare(x, crossing, SlabRef{-1, 0, double(r.t_min)}) >= 0;
+    }
+    bool before_max = false;
+    if (after_min) {
+        if (t.hi <= double(r.t_max)) {
+            before_max = true;
+        } else if (t.lo > double(r.t_max)) {
+            before_max = false;
+        } else {
+            RAYPROOF_COUNT_EXACT(went_exact);
+            before_max = exact_compare(x, crossing, SlabRef{-1, 0, double(r.t_max)}) <= 0;
+        }
+    }
+    if (after_min && before_max) {
+        h.verdict = Verdict::hit;
+        if (const std::optional<T> f = faithful_from_enclosure<T>(t)) {
+            h.t_enter = *f;
+        } else {
+            RAYPROOF_COUNT_EXACT(went_exact);
+            h.t_enter = exact_faithful<T>(x, 0, 0);
+        }
+        h.t_exit = h.t_enter;
+    }
+    RAYPROOF_COUNT_FLUSH(went_exact);
+    return h;
+}
+
+}  // namespace rayproof::detail

@@ -1,0 +1,20 @@
+// rayproof/rayproof.hpp — the front door: the whole kernel.
+//
+//   #include <rayproof/rayproof.hpp>
+//   rayproof::Ray<double> ray{{0, 0, -5}, {0, 0, 1}};
+//   rayproof::Aabb<double> box{{-1, -1, -1}, {1, 1, 1}};
+//   auto hit = rayproof::intersect(ray, box, rayproof::certified);
+//   if (hit) use(hit.t_enter, hit.face, rayproof::normal(box, hit, ray));
+//
+// Meaning of every answer: docs/semantics.md. One header per query pair below; the
+// internals live in detail/.
+#pragma once
+
+#include <rayproof/types.hpp>
+#include <rayproof/ray_aabb.hpp>
+#include <rayproof/ray_obb.hpp>
+#include <rayproof/ray_plane.hpp>
+#include <rayproof/ray_sphere.hpp>
+#include <rayproof/intersect.hpp>
+#include <rayproof/normal.hpp>
+#include <rayproof/io.hpp>
