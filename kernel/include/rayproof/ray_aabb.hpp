@@ -26,12 +26,15 @@
 //            Parallel axes are decided exactly (comparisons of floats).
 //            certified — the same enclosures decide every comparison they separate;
 //            overlapping ones are decided by exact arithmetic (detail/exact.hpp). The
-//            winning slab value (p - o)/d is rounded faithfully by a compensated
-//            division: s + e = p - o exactly (two_sum), q = fl(s/d), r = s - q·d exactly
-//            (fma), q' = fl(q + fl(fl(r + e)/d)); |q + fl(fl(r+e)/d) - t| <= gamma(2)·1.5
-//            ulp(q), far below half a gap, so q' is one of the two floats enclosing t
-//            and is t when t is representable. Valid while |s|, |q| >= 2^-960 (no
-//            residual or quotient underflow); otherwise exact arithmetic decides.
+//            winning slab value (p - o)/d is rounded faithfully by one compensated
+//            correction of its approximation t~: s + e = p - o exactly (two_sum),
+//            t' = fl(t~ + fl(fl(e - fl(t~·d - s))·fl(1/d))); the correction is off by a
+//            tiny fraction of a gap, so t' is one of the two floats enclosing t and is
+//            t when t is representable (faithful_slab_value has the derivation). Valid
+//            while |s|, |t~| >= 2^-960 (nothing underflows); otherwise exact
+//            arithmetic decides. The common case runs as straight-line code
+//            (aabb_certified_common) and hands anything it cannot prove to the general
+//            path.
 //            For float, every step runs in double: a faithfully rounded double rounded
 //            to nearest float is a faithfully rounded float.
 #pragma once
@@ -52,6 +55,56 @@ template <class T> PreparedAabb<T> prepare(const Aabb<T>& b) { return {b, valid(
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
     return slab_fast(r.origin.data(), r.direction.data(), p.box.lo.data(), p.box.hi.data(), r.t_min, r.t_max);
+}
+
+// x·y - z with one rounding: the fused multiply-add where the target has one, else
+// Dekker's exact product (x·y = ph + pl, Veltkamp splitting; exact when nothing
+// overflows or underflows) followed by (ph - z) - pl, where ph - z is exact
+// (Sterbenz: ph and z are within a factor 2 of each other in the use below) and the
+// last subtraction rounds once.
+inline double mul_sub(double x, double y, double z) {
+#if defined(__FMA__) || defined(__FP_FAST_FMA)
+    return std::fma(x, y, -z);
+#else
+    constexpr double split = 134217729.0;  // 2^27 + 1
+    const double cx = split * x, cy = split * y;
+    const double xh = cx - (cx - x), xl = x - xh, yh = cy - (cy - y), yl = y - yh;
+    const double ph = x * y;
+    const double pl = ((xh * yh - ph) + xh * yl + xl * yh) + xl * yl;
+    return (ph - z) + pl;
+#endif
+}
+
+// (p - o)/d faithfully rounded to T by one compensated correction of an approximation
+// t~ with |t~ - t| <= gamma(3)|t| (as the slab values are computed), or nothing when
+// the conditions below fail (then exact arithmetic rounds).
+// s + e = p - o exactly (two_sum), so t = (s + e)/d and t - t~ = (s - t~·d + e)/d.
+// r~ = fl(t~·d - s) (one rounding) is off by at most u|s - t~·d| <= u·4 ulp(t)|d|;
+// delta = fl(fl(e - r~)·fl(1/d)) then differs from t - t~ by at most about
+// (u + gamma(3))·5 ulp(t), a tiny fraction of a gap, so RN(t~ + delta) is one of the
+// two doubles enclosing t, and t itself when it is representable. Needs |s|, |t~| >=
+// 2^-960 and 1/d normal (no underflow in r~ or delta), |t~|, |d| <= 2^995.
+// A faithfully rounded double rounded to nearest T is a faithfully rounded T (the two
+// T values enclosing t enclose the double); beyond the largest finite T the enclosing
+// finite neighbour is answered, as exact_faithful does.
+template <class T> std::optional<T> faithful_slab_value(T p, T o, T dT, double approx, double inv) {
+    constexpr double big = std::numeric_limits<double>::max();
+    const Pair se = two_sum(double(p), -double(o));
+    if (se.hi == 0) return T(0);
+    const double d = dT;
+    const double ai = std::abs(inv), at = std::abs(approx);
+    // |d|, |t~| <= 2^995 also keeps Dekker's splitting (no hardware fma) from overflowing.
+    if (!(std::abs(se.hi) >= 0x1p-960 && at >= 0x1p-960 && at <= 0x1p995 && ai >= 0x1p-1022 && ai <= big &&
+          std::abs(d) <= 0x1p995))
+        return std::nullopt;
+    const double t = approx + (se.lo - mul_sub(approx, d, se.hi)) * inv;
+    if (std::abs(t) > double(std::numeric_limits<T>::max()))
+        return std::copysign(std::numeric_limits<T>::max(), T(t > 0 ? 1 : -1));
+    return static_cast<T>(t);
+}
+template <class T> std::optional<T> faithful_slab_value(T p, T o, T d) {
+    const double inv = 1.0 / double(d);
+    return faithful_slab_value<T>(p, o, d, (double(p) - double(o)) * inv, inv);
 }
 
 // The slab frame of an axis-aligned box (see detail/slab_certified.hpp): the slab
@@ -93,17 +146,7 @@ public:
         return true;
     }
     T faithful(int i, int side, const Interval<double>&, bool& went_exact) const {
-        const Pair se = two_sum(double(plane(i, side)), -double(o_[i]));  // p - o = s + e exactly
-        if (se.hi == 0) return T(0);
-        const double d = d_[i], q = se.hi / d;
-        if (std::abs(se.hi) >= 0x1p-960 && std::abs(q) >= 0x1p-960 && std::abs(q) <= std::numeric_limits<double>::max()) {
-            const double r = std::fma(-q, d, se.hi);  // exact residual
-            const double q2 = q + (r + se.lo) / d;
-            // beyond the largest finite T: the enclosing finite neighbour (as exact_faithful)
-            if (std::abs(q2) > double(std::numeric_limits<T>::max()))
-                return std::copysign(std::numeric_limits<T>::max(), T(q2 > 0 ? 1 : -1));
-            return static_cast<T>(q2);
-        }
+        if (const std::optional<T> t = faithful_slab_value<T>(plane(i, side), o_[i], d_[i])) return *t;
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, i, side);
     }
@@ -113,7 +156,7 @@ private:
     const T* o_;
     const T* d_;
     const Aabb<T>* b_;
-    double t_[3][2] = {}, e_[3][2] = {};
+    double t_[3][2], e_[3][2];
     bool ok_;
 };
 
@@ -122,8 +165,94 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
     return slab_conservative(AabbFrame<T>(r, p.box), r.t_min, r.t_max);
 }
 
+// The certified answer's common case in straight-line code: the slab values and their
+// error bounds, the entry argmax and exit argmin as in fast mode, and checks that the
+// bounds separate every comparison that decided them. Anything the checks cannot
+// vouch for (close values, overflow) goes to the general path, slab_certified on
+// AabbFrame, which decides exactly; this one only answers where its decisions are
+// proven, so both give the same answer.
+// Bound: with 1/d normal and finite (|d| in [2^-1022, 2^1022]), p - o exact when it is
+// subnormal, and a subnormal product off by at most 2^-1075, each computed value is
+// within gamma(3)|t| + 2^-1075 of t; the ends t~ ∓ (K|t~| + eta), K = 2·gamma(3),
+// eta = 2^-1070, cover that and their own two roundings (see the header comment). An
+// overflowed value (±inf) makes some check compare a NaN, which fails it.
+template <class T> std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
+    constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1070, inf = std::numeric_limits<double>::infinity();
+    double t_in[3], t_out[3];
+    bool ok = true, par[3];
+    for (int i = 0; i < 3; ++i) {
+        const double d = r.direction[i], o = r.origin[i];
+        par[i] = d == 0;
+        if (par[i]) {  // parallel: exact, the closed slab holds the origin or the ray misses
+            if (o < double(b.lo[i]) || o > double(b.hi[i])) return Hit<T>{};
+            t_in[i] = -inf;
+            t_out[i] = inf;
+            continue;
+        }
+        const double a = std::abs(d);
+        ok &= (a >= 0x1p-1022) & (a <= 0x1p1022);
+        const double inv = 1.0 / d;
+        const double t_lo = (double(b.lo[i]) - o) * inv;
+        const double t_hi = (double(b.hi[i]) - o) * inv;
+        const bool neg = d < 0;
+        t_in[i] = pick(neg, t_hi, t_lo);
+        t_out[i] = pick(neg, t_lo, t_hi);
+    }
+    if (!ok) return std::nullopt;
+    // Latest entry (t_min first, strict > keeps the lowest axis on ties), earliest exit.
+    int w = -1, x = -1;
+    double in = r.t_min, out = r.t_max;
+    for (int i = 0; i < 3; ++i) {  // branch-free, as slab_fast
+        const bool later = t_in[i] > in, earlier = t_out[i] < out;
+        w += int(later) * (i - w);
+        x += int(earlier) * (i - x);
+        in = t_in[i] > in ? t_in[i] : in;
+        out = t_out[i] < out ? t_out[i] : out;
+    }
+    const double ein = K * std::abs(in) + eta, eout = K * std::abs(out) + eta;
+    const double in_lo = w < 0 ? in : in - ein, in_hi = w < 0 ? in : in + ein;
+    const double out_lo = x < 0 ? out : out - eout, out_hi = x < 0 ? out : out + eout;
+    // Every other candidate's bound strictly on the far side of the winner's (branch-free:
+    // w and x are as random as the rays; parallel axes hold ±inf, exact, and are excused).
+    bool sure = ((w < 0) | (double(r.t_min) < in_lo)) & ((x < 0) | (double(r.t_max) > out_hi));
+    for (int i = 0; i < 3; ++i) {
+        const bool in_apart = t_in[i] + (K * std::abs(t_in[i]) + eta) < in_lo;
+        const bool out_apart = t_out[i] - (K * std::abs(t_out[i]) + eta) > out_hi;
+        sure &= par[i] | (((i == w) | in_apart) & ((i == x) | out_apart));
+    }
+    if (!sure) return std::nullopt;
+    Hit<T> h;
+    if (in_lo > out_hi) return h;                // entry certainly after exit: miss
+    if (!(in_hi < out_lo)) return std::nullopt;  // too close to call here
+    h.verdict = Verdict::hit;
+    if (w >= 0) {
+        const bool neg = r.direction[w] < 0;
+        const std::optional<T> t =
+            faithful_slab_value<T>(neg ? b.hi[w] : b.lo[w], r.origin[w], r.direction[w], in, 1.0 / double(r.direction[w]));
+        if (!t) return std::nullopt;
+        h.t_enter = *t;
+        h.face = 2 * w + int(neg);
+    } else {
+        h.t_enter = r.t_min;
+    }
+    if (x >= 0) {
+        const std::optional<T> t = faithful_slab_value<T>(r.direction[x] < 0 ? b.lo[x] : b.hi[x], r.origin[x],
+                                                          r.direction[x], out, 1.0 / double(r.direction[x]));
+        if (!t) return std::nullopt;
+        h.t_exit = *t;
+    } else {
+        h.t_exit = r.t_max;
+    }
+    if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;  // see slab_certified
+    return h;
+}
+
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
+    if (const std::optional<Hit<T>> h = aabb_certified_common(r, p.box)) {
+        RAYPROOF_COUNT_QUERY();
+        return *h;
+    }
     return slab_certified(AabbFrame<T>(r, p.box), r.t_min, r.t_max);
 }
 

@@ -195,9 +195,22 @@ private:
     I delta_[3], a_, b_, c_;
 };
 
+template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t);
+
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, conservative_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
     const SphereQuadratic<T> q(r, p.sphere);
+    if (!(q.a().lo > 0)) {
+        // a = |d|² underflowed (|d| below about 2^-537): the interval formulas divide by
+        // an interval holding 0. Rare enough to take the certified answer and widen each
+        // faithfully rounded end by one step, which encloses the exact interval.
+        Hit<T> h = query(r, p, certified_t{});
+        if (h.verdict == Verdict::hit) {
+            if (h.t_enter != r.t_min) h.t_enter = std::max(step_down(h.t_enter), r.t_min);
+            if (h.t_exit != r.t_max) h.t_exit = std::min(step_up(h.t_exit), r.t_max);
+        }
+        return h;
+    }
     Hit<T> h;
     const Interval<double> disc = q.discriminant();
     if (disc.hi < 0) return h;  // certainly no real root (NaN ends never decide a miss)
@@ -235,7 +248,7 @@ template <class P> std::int64_t first_true(std::int64_t lo, std::int64_t hi, std
     if (guess > lo && guess < hi) {  // gallop outwards from the guess, then bisect
         if (pred(guess)) {
             hi = guess;
-            for (std::int64_t step = 1; hi - step > lo; step *= 2) {
+            for (std::int64_t step = 1; step < (std::int64_t(1) << 62) && hi - step > lo; step *= 2) {
                 if (!pred(hi - step)) {
                     lo = hi - step;
                     break;
@@ -244,7 +257,7 @@ template <class P> std::int64_t first_true(std::int64_t lo, std::int64_t hi, std
             }
         } else {
             lo = guess;
-            for (std::int64_t step = 1; lo + step < hi; step *= 2) {
+            for (std::int64_t step = 1; step < (std::int64_t(1) << 62) && lo + step < hi; step *= 2) {
                 if (pred(lo + step)) {
                     hi = lo + step;
                     break;
@@ -253,8 +266,9 @@ template <class P> std::int64_t first_true(std::int64_t lo, std::int64_t hi, std
             }
         }
     }
-    while (hi - lo > 1) {
-        const std::int64_t m = lo + (hi - lo) / 2;
+    // hi - lo may exceed INT64_MAX (keys of opposite signs): differences in unsigned.
+    while (std::uint64_t(hi) - std::uint64_t(lo) > 1) {
+        const std::int64_t m = lo + std::int64_t((std::uint64_t(hi) - std::uint64_t(lo)) / 2);
         if (pred(m))
             hi = m;
         else

@@ -17,7 +17,10 @@
 
 #include <rayproof/types.hpp>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <type_traits>
 
 namespace rayproof::detail {
 
@@ -25,6 +28,14 @@ namespace rayproof::detail {
 // are assumed valid; the result follows the contract's face rule: -1 when t_min
 // already lies in every slab, otherwise the axis of the latest entry, lowest index on
 // ties (strict > keeps the earlier axis and keeps t_min on a tie with it).
+// Branch-free choice between two floats (random ray directions make a branch on the
+// sign of d_i mispredict half the time).
+template <class T> inline T pick(bool first, T a, T b) {
+    using U = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
+    const U m = U(0) - U(first);
+    return std::bit_cast<T>(U((std::bit_cast<U>(a) & m) | (std::bit_cast<U>(b) & ~m)));
+}
+
 template <class T>
 Hit<T> slab_fast(const T* o, const T* d, const T* lo, const T* hi, T t_min, T t_max) {
     T t_enter = t_min, t_exit = t_max;
@@ -34,11 +45,12 @@ Hit<T> slab_fast(const T* o, const T* d, const T* lo, const T* hi, T t_min, T t_
         const T t_lo = (lo[i] - o[i]) * inv;
         const T t_hi = (hi[i] - o[i]) * inv;
         const bool neg = std::signbit(d[i]);
-        const T t_in = neg ? t_hi : t_lo;
-        const T t_out = neg ? t_lo : t_hi;
-        face = t_in > t_enter ? 2 * i + int(neg) : face;
-        t_enter = t_in > t_enter ? t_in : t_enter;  // NaN never wins
-        t_exit = t_out < t_exit ? t_out : t_exit;
+        const T t_in = pick(neg, t_hi, t_lo);
+        const T t_out = pick(neg, t_lo, t_hi);
+        const bool later = t_in > t_enter;          // false for NaN: NaN never wins
+        face += int(later) * (2 * i + int(neg) - face);
+        t_enter = t_in > t_enter ? t_in : t_enter;  // maxsd: keeps t_enter on NaN
+        t_exit = t_out < t_exit ? t_out : t_exit;   // minsd: keeps t_exit on NaN
     }
     Hit<T> h;
     h.verdict = t_enter <= t_exit ? Verdict::hit : Verdict::miss;
