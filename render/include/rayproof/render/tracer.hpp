@@ -1,0 +1,148 @@
+// rayproof/render/tracer.hpp — a Whitted-style recursive ray tracer on top of the kernel.
+//
+// Every ray query (primary, shadow, reflected, refracted) is a rayproof::intersect call
+// in the scene's mode. Lighting per RGB channel:
+//   I_local = I_a·K_a + Σ_lights S·f_att·I_l·(K_d·(N·L) + K_s·(R·V)^n)   [or K_s·(N·H)^n, Blinn]
+//   f_att   = min(1 / (c1 + c2·d + c3·d²), 1)
+//   S       = 0 if an opaque object blocks the segment to the light, else the product of
+//             the transparencies K_t of the transparent objects on it
+//   I       = (1 - K_t)·(I_local + k_r·I_reflected) + K_t·I_transmitted
+// Terms whose angle exceeds 90° are dropped (N·L <= 0: no diffuse, no specular and no
+// shadow ray; R·V < 0 or N·H < 0: no specular). Recursion stops at the maximum depth,
+// when a ray leaves the scene (background colour) or when the weight of a secondary ray
+// falls below RenderSettings::min_contribution. Shadow rays are traced only towards
+// lights, reflected rays only for reflective materials, refracted rays only for
+// transparent ones.
+//
+// Inside and outside: a solid (sphere, box) whose interval starts at the ray's t_min
+// (boxes: face == -1) contains the ray's origin; the ray then meets the surface where it
+// leaves, at t_exit (boxes: the exit face is the entry face of rayproof::reversed(ray)),
+// and refraction goes from the solid's index to 1. Planes are surfaces, not solids: a
+// transparent plane is a thin sheet that lets rays through undeviated; a ray lying in a
+// plane does not see it.
+//
+// Secondary-ray origins: see offset_distance and offset_origin below (no fixed epsilon).
+#pragma once
+
+#include <rayproof/render/image.hpp>
+#include <rayproof/render/scene.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace rayproof::render {
+
+// How secondary rays leave a surface.
+//   error_bound: the origin is moved off the surface along the normal by a distance
+//                derived from error bounds (see offset_distance), t_min = 0.
+//   naive:       the origin is the computed point o + t·d, unmoved, and the ray
+//                starts at the fixed t_min `naive_t_min` (unit direction). Kept only
+//                to show, in the tests, the shadow acne it produces.
+enum class OffsetPolicy { error_bound, naive };
+
+struct TraceOptions {
+    OffsetPolicy offset = OffsetPolicy::error_bound;
+    double naive_t_min = 1e-4;
+};
+
+struct Stats {
+    std::uint64_t primary = 0, shadow = 0, reflection = 0, refraction = 0;  // rays traced, by kind
+    std::uint64_t kernel_queries = 0;  // rayproof::intersect calls
+    std::uint64_t invalid = 0;         // queries answered Verdict::invalid (treated as a miss)
+    std::uint64_t culled = 0;          // secondary rays not traced: weight below min_contribution
+    std::uint64_t shadowed = 0;        // shadow rays that found the light fully blocked
+    Stats& operator+=(const Stats& o);
+};
+
+struct RenderOptions {
+    int threads = 0;        // 0: every hardware thread
+    bool progress = false;  // draw a progress bar on stderr if the render lasts over a second
+    TraceOptions trace;
+};
+
+struct RenderResult {
+    Image image;
+    Stats stats;
+    double seconds = 0;
+    std::string error;  // non-empty when nothing was rendered (e.g. mode not available)
+    explicit operator bool() const { return error.empty(); }
+};
+
+// Renders scene.settings.width × height pixels in scene.settings.mode.
+RenderResult render(const Scene& scene, const RenderOptions& options = {});
+
+// The primary ray through image point (px, py), in pixel units with y pointing down:
+// the centre of pixel (x, y) is (x + 0.5, y + 0.5).
+Ray<double> camera_ray(const Camera& cam, int width, int height, double px, double py);
+
+// The colour (linear, unclamped) seen along the primary ray through (px, py), traced in
+// scene.settings.mode; nullopt when that mode is not available.
+std::optional<Color> radiance(const Scene& scene, double px, double py, const TraceOptions& options = {},
+                              Stats* stats = nullptr);
+
+// --- building blocks, exposed for the tests ------------------------------------------
+
+// gamma(n) = n·u / (1 - n·u), u = 2^-53: bounds the relative error of n correctly
+// rounded double operations (Higham, Lemma 3.1; pbrt-v4 section 6.8.1).
+constexpr double gamma_bound(int n) {
+    constexpr double u = 0x1p-53;
+    return (n * u) / (1 - n * u);
+}
+
+// A point where a ray meets a surface, ready for shading and for spawning rays.
+struct SurfacePoint {
+    Vec3d p;             // the hit point (projected back onto the surface where the shape allows)
+    Vec3d n;             // unit normal facing the side the incoming ray came from
+    double offset = 0;   // distance to move secondary-ray origins off the surface (see below)
+    bool inside = false; // the incoming ray travelled inside the solid (it is leaving it)
+};
+
+// offset = E + K, both stated bounds on distances along the normal:
+//   E bounds the distance from the computed p to the exact surface:
+//     Aabb:   0 — the coordinate on the face's axis is set to lo or hi exactly.
+//     Sphere: p = c + v·(r/|v|), v = o + t·d - c (pbrt-v4 6.8.5 reprojection); the
+//             exact c + v·r/|v| lies on the sphere and each computed coordinate is
+//             within γ(6)·(|c_i| + |v'_i|) of it: v'_i = v_i·r/|v| is off by < γ(5)
+//             relative (|v|² carries γ(3), the sqrt halves it and adds one rounding, then
+//             the division and the product one each: 4.5u), and c_i + v'_i adds one
+//             rounding; E = Σ|n_i|·that.
+//     Plane, Obb: a posteriori, from the residual g = n·p - offset (or (p-c)·a - h):
+//             |g_exact - g_computed| <= γ(5)·(Σ|terms| + |offset|), so the distance to the
+//             plane is at most (|g_computed| + that) / |n|.
+//   K keeps the new origin out of the band where the kernel itself, queried again from
+//   there, could still report the surface just left. From the kernel's stated error
+//   models: fast evaluates n operations with relative error γ(n); conservative moves
+//   each interval end one step outward after round-to-nearest, 1.5 ulp <= 3u per
+//   operation, so γ(3n) for the same n operations; K takes the larger, γ(3n):
+//     Aabb: 0 (a slab value (lo_i - o_i)/d_i keeps the sign of lo_i - o_i, and the
+//           origin is one ulp past the face);
+//     Obb:  γ(12)·Σ_j|(p - c)_j·a_j| / |a| (o'_i: a difference, a product, two sums);
+//     Plane: γ(12)·(|offset| + Σ|n_i p_i|) / |n| (the numerator: a product, three sums);
+//     Sphere: γ(24)·r (the fast mode's tangency band γ(8)·|Δ|, |Δ| ≈ r there).
+// The sum is then scaled by (1 + γ(4)) to cover the rounding of these very formulas.
+// The γ bounds hold only while no result underflows: a face at 0 pushed one ulp to
+// 2^-1074 gives a slab or plane quotient 2^-1074/d that rounds to -0, "hit at t = 0".
+// So the distance moved is at least underflow_floor(p, d) for the new direction d.
+// This is the only distance by which rays leave surfaces; there is no other epsilon.
+
+// Moves p by at least `dist` along the unit vector n: each coordinate becomes
+// p_i + dist·n_i rounded to nearest, then pushed one more ulp away from p_i in the
+// direction of n_i (pbrt-v4 OffsetRayOrigin), so that, whatever the rounding,
+// (q - p)_i·n_i >= dist·n_i² for every i, hence (q - p)·n >= dist·|n|².
+Vec3d offset_origin(const Vec3d& p, const Vec3d& n, double dist);
+
+// 2^-60·max(|p|_inf, |d|_inf): below one rounding unit (2^-52) of the largest
+// coordinate involved, so it never outweighs a non-zero error bound there; it only
+// acts where the bound is exactly 0 and a coordinate is 0 or tiny, and keeps the next
+// query's quotients (|numerator| >= 2^-60·|d|, denominator <= |d|·|n|) far from
+// underflow, and its inputs in the range the kernel's fast exact stage handles.
+double underflow_floor(const Vec3d& p, const Vec3d& d);
+
+// R = u - 2(u·N)N.
+Vec3d reflect(const Vec3d& u, const Vec3d& n);
+// Snell's law for the unit incoming direction u and the unit normal n facing u's side
+// (u·n <= 0), eta = eta_incident / eta_transmitted; nullopt on total internal reflection.
+std::optional<Vec3d> refract(const Vec3d& u, const Vec3d& n, double eta);
+
+}  // namespace rayproof::render

@@ -1,0 +1,495 @@
+// The tracer: camera rays, closest hits, shading, secondary rays and the threaded image
+// loop. See tracer.hpp for the lighting model and the offset derivation.
+#include <rayproof/render/tracer.hpp>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <limits>
+#include <mutex>
+#include <thread>
+
+namespace rayproof::render {
+
+namespace {
+
+using Rayd = Ray<double>;
+using Hitd = Hit<double>;
+
+template <class M>
+constexpr bool mode_ready = Answerable<double, Sphere<double>, M> && Answerable<double, Aabb<double>, M> &&
+                            Answerable<double, Obb<double>, M> && Answerable<double, Plane<double>, M>;
+
+constexpr double inf = std::numeric_limits<double>::infinity();
+
+double max3(const Color& c) { return c.maxCoeff(); }
+
+// Which solid-ness a shape has: planes are surfaces, the rest are closed solids.
+bool is_plane(const Shape& s) { return std::holds_alternative<Plane<double>>(s); }
+
+struct Candidate {
+    int object = -1;
+    double t = inf;
+    bool inside = false;
+    Hitd hit;
+};
+
+template <class M> class Tracer {
+public:
+    Tracer(const Scene& scene, const TraceOptions& opt, Stats& stats)
+        : s_(scene), opt_(opt), st_(stats) {}
+
+    Color trace(const Rayd& ray, int depth, double weight) {
+        const Candidate c = closest(ray);
+        if (c.object < 0) return s_.settings.background;
+        const Object& obj = s_.objects[std::size_t(c.object)];
+        const Material& mat = s_.materials[std::size_t(obj.material)];
+        const SurfacePoint sp = surface(obj.shape, ray, c);
+        const Vec3d u = ray.direction.normalized();
+
+        Color local = s_.ambient_light * mat.ambient;
+        for (const Light& l : s_.lights) local += light(l, mat, sp, u);
+
+        const bool deeper = depth < s_.settings.depth;
+        const double kt = mat.transparency;
+        Color reflected = Color::Zero();
+        if (deeper && mat.reflective()) {
+            const double w = weight * max3(mat.reflectivity) * (1 - kt);
+            if (w >= s_.settings.min_contribution) {
+                ++st_.reflection;
+                reflected = mat.reflectivity * trace(spawn(sp, reflect(u, sp.n), +1), depth + 1, w);
+            } else {
+                ++st_.culled;
+            }
+        }
+        if (kt <= 0) return local + reflected;
+
+        Color transmitted = Color::Zero();
+        if (deeper) {
+            const double w = weight * kt;
+            if (w >= s_.settings.min_contribution) {
+                ++st_.refraction;
+                transmitted = trace(transmit(obj, mat, sp, u), depth + 1, w);
+            } else {
+                ++st_.culled;
+            }
+        }
+        return (1 - kt) * (local + reflected) + kt * transmitted;
+    }
+
+private:
+    Hitd query(const Rayd& r, const Shape& shape) {
+        ++st_.kernel_queries;
+        const Hitd h = std::visit([&](const auto& sh) { return rayproof::intersect(r, sh, M{}); }, shape);
+        if (h.verdict == Verdict::invalid) ++st_.invalid;
+        return h;
+    }
+
+    // A plane hit that covers the whole range is the ray lying in the plane: not seen.
+    static bool lies_in_plane(const Rayd& r, const Hitd& h) {
+        return h.t_enter == r.t_min && h.t_exit == r.t_max && h.t_enter < h.t_exit;
+    }
+
+    Candidate closest(const Rayd& ray) {
+        Candidate best;
+        for (std::size_t i = 0; i < s_.objects.size(); ++i) {
+            const Shape& shape = s_.objects[i].shape;
+            const Hitd h = query(ray, shape);
+            if (!h) continue;
+            Candidate c;
+            c.object = int(i);
+            c.hit = h;
+            if (is_plane(shape)) {
+                if (lies_in_plane(ray, h)) continue;
+                c.t = h.t_enter;
+            } else {
+                // The interval starts at t_min exactly when the origin is in the solid
+                // (boxes say so with face == -1): the surface is then met on the way out.
+                c.inside = std::holds_alternative<Sphere<double>>(shape) ? h.t_enter == ray.t_min : h.face < 0;
+                c.t = c.inside ? h.t_exit : h.t_enter;
+            }
+            if (c.t < best.t) best = c;
+        }
+        return best;
+    }
+
+    // --- the hit point, its normal and its error bound (tracer.hpp: offset = E + K) ----
+
+    SurfacePoint surface(const Shape& shape, const Rayd& ray, const Candidate& c) {
+        SurfacePoint sp = std::visit([&](const auto& sh) { return at(sh, ray, c); }, shape);
+        sp.offset *= 1 + gamma_bound(4);
+        sp.inside = c.inside;
+        if (c.inside) sp.n = -sp.n;  // face the side the ray came from (the inside)
+        if (opt_.offset == OffsetPolicy::naive) sp.p = ray.origin + c.t * ray.direction;
+        return sp;
+    }
+
+    SurfacePoint at(const Sphere<double>& s, const Rayd& ray, const Candidate& c) {
+        SurfacePoint sp;
+        const Vec3d p0 = ray.origin + c.t * ray.direction;
+        const Vec3d v = p0 - s.center;
+        const double len = v.norm();
+        if (s.radius > 0 && len > 0 && std::isfinite(len)) {
+            const Vec3d vr = v * (s.radius / len);
+            sp.p = s.center + vr;
+            sp.n = vr.normalized();
+            double e = 0;
+            for (int i = 0; i < 3; ++i)
+                e += std::abs(sp.n[i]) * gamma_bound(6) * (std::abs(s.center[i]) + std::abs(vr[i]));
+            sp.offset = e + gamma_bound(24) * s.radius;
+        } else {  // a point sphere, or the hit point rounded onto the centre
+            sp.p = p0;
+            sp.n = -ray.direction.normalized();
+            double e = 0;
+            for (int i = 0; i < 3; ++i)
+                e += gamma_bound(4) * (std::abs(ray.origin[i]) + std::abs(c.t * ray.direction[i]));
+            sp.offset = e;
+        }
+        return sp;
+    }
+
+    // The face a box ray meets, its parameter and its hit record (entry face, or for a
+    // ray inside the box the exit face = the entry face of the reversed ray).
+    template <class Box> std::pair<Hitd, Rayd> box_face(const Box& b, const Rayd& ray, const Candidate& c) {
+        if (!c.inside) return {c.hit, ray};
+        const Rayd rev = reversed(ray);
+        Hitd rh = query(rev, b);
+        if (!rh || rh.face < 0) {  // inconsistent answers (possible in fast mode): nearest face plane
+            rh = c.hit;
+            rh.face = nearest_face(b, ray.origin + c.t * ray.direction);
+            rh.t_enter = -c.t;
+        }
+        return {rh, rev};
+    }
+
+    static int nearest_face(const Aabb<double>& b, const Vec3d& p) {
+        int best = 0;
+        double dmin = inf;
+        for (int f = 0; f < 6; ++f) {
+            const double d = std::abs(p[f / 2] - ((f % 2) ? b.hi[f / 2] : b.lo[f / 2]));
+            if (d < dmin) dmin = d, best = f;
+        }
+        return best;
+    }
+    static int nearest_face(const Obb<double>& b, const Vec3d& p) {
+        int best = 0;
+        double dmin = inf;
+        for (int f = 0; f < 6; ++f) {
+            const Vec3d a = b.axes.col(f / 2);
+            const double h = (f % 2) ? b.half_extent[f / 2] : -b.half_extent[f / 2];
+            const double d = std::abs((p - b.center).dot(a) - h) / a.norm();
+            if (d < dmin) dmin = d, best = f;
+        }
+        return best;
+    }
+
+    SurfacePoint at(const Aabb<double>& b, const Rayd& ray, const Candidate& c) {
+        const auto [h, r] = box_face(b, ray, c);
+        SurfacePoint sp;
+        const int axis = h.face / 2;
+        sp.p = r.origin + h.t_enter * r.direction;
+        sp.p[axis] = (h.face % 2) ? b.hi[axis] : b.lo[axis];  // exact: E = 0, K = 0
+        // The exact hit point lies on the face: clamping the other coordinates into the
+        // face's rectangle can only bring p closer to it (it matters at edges, where a
+        // conservative t_exit may overshoot into the neighbouring slab).
+        for (int j = 0; j < 3; ++j)
+            if (j != axis) sp.p[j] = std::clamp(sp.p[j], b.lo[j], b.hi[j]);
+        sp.n = rayproof::normal(b, h, r);
+        sp.offset = 0;
+        return sp;
+    }
+
+    SurfacePoint at(const Obb<double>& b, const Rayd& ray, const Candidate& c) {
+        const auto [h, r] = box_face(b, ray, c);
+        SurfacePoint sp;
+        const int axis = h.face / 2;
+        sp.p = r.origin + h.t_enter * r.direction;
+        sp.n = rayproof::normal(b, h, r);
+        const Vec3d a = b.axes.col(axis);
+        const double hh = (h.face % 2) ? b.half_extent[axis] : -b.half_extent[axis];
+        const Vec3d pc = sp.p - b.center;
+        const double g = pc.dot(a) - hh;
+        const double terms = std::abs(pc[0] * a[0]) + std::abs(pc[1] * a[1]) + std::abs(pc[2] * a[2]);
+        const double len = a.norm();
+        const double e = (std::abs(g) + gamma_bound(5) * (terms + std::abs(hh))) / len;
+        const double k = gamma_bound(12) * terms / len;
+        sp.offset = e + k;
+        return sp;
+    }
+
+    SurfacePoint at(const Plane<double>& pl, const Rayd& ray, const Candidate& c) {
+        SurfacePoint sp;
+        sp.p = ray.origin + c.t * ray.direction;
+        sp.n = rayproof::normal(pl, c.hit, ray);
+        const Vec3d& n = pl.normal;
+        const double g = n.dot(sp.p) - pl.offset;
+        const double terms =
+            std::abs(n[0] * sp.p[0]) + std::abs(n[1] * sp.p[1]) + std::abs(n[2] * sp.p[2]) + std::abs(pl.offset);
+        const double len = n.norm();
+        const double e = (std::abs(g) + gamma_bound(5) * terms) / len;
+        const double k = gamma_bound(12) * terms / len;
+        sp.offset = e + k;
+        return sp;
+    }
+
+    // --- secondary rays ------------------------------------------------------------------
+
+    // A ray leaving sp in direction dir on the side `side` (+1: the side the incoming ray
+    // came from, -1: the other side).
+    Rayd spawn(const SurfacePoint& sp, const Vec3d& dir, int side) const {
+        if (opt_.offset == OffsetPolicy::naive) return Rayd{sp.p, dir, opt_.naive_t_min, inf};
+        const double dist = std::max(sp.offset, underflow_floor(sp.p, dir));
+        return Rayd{offset_origin(sp.p, side > 0 ? sp.n : Vec3d(-sp.n), dist), dir, 0, inf};
+    }
+
+    Rayd transmit(const Object& obj, const Material& mat, const SurfacePoint& sp, const Vec3d& u) const {
+        if (is_plane(obj.shape)) return spawn(sp, u, -1);  // a thin sheet: straight through
+        const double eta = sp.inside ? mat.ior : 1 / mat.ior;
+        if (const auto t = refract(u, sp.n, eta)) return spawn(sp, t->normalized(), -1);
+        return spawn(sp, reflect(u, sp.n), +1);  // total internal reflection
+    }
+
+    Color light(const Light& l, const Material& mat, const SurfacePoint& sp, const Vec3d& u) {
+        const Vec3d to_light = l.position - sp.p;
+        const double dist = to_light.norm();
+        if (!(dist > 0)) return Color::Zero();
+        const Vec3d L = to_light / dist;
+        const double nl = sp.n.dot(L);
+        if (!(nl > 0)) return Color::Zero();  // the light is behind the surface
+        const double att = std::min(1.0, 1.0 / (l.c1 + l.c2 * dist + l.c3 * dist * dist));
+        Color term = mat.diffuse * nl;
+        if ((mat.specular > 0).any()) {
+            const Vec3d V = -u;
+            double x;
+            if (mat.highlight == Highlight::phong) {
+                const Vec3d R = 2 * nl * sp.n - L;
+                x = R.dot(V);
+            } else {
+                x = sp.n.dot((L + V).normalized());
+            }
+            if (x > 0) term += mat.specular * std::pow(x, mat.shininess);
+        }
+        const Color contribution = att * l.color * term;
+        if (!(contribution > 0).any()) return Color::Zero();
+        return contribution * shadow(sp, l);
+    }
+
+    // The fraction of the light that reaches sp: 0 behind an opaque object, the product
+    // of the transparencies of the transparent objects in between.
+    Color shadow(const SurfacePoint& sp, const Light& l) {
+        ++st_.shadow;
+        Rayd r;
+        if (opt_.offset == OffsetPolicy::naive) {
+            const Vec3d d = l.position - sp.p;
+            const double dist = d.norm();
+            r = Rayd{sp.p, d / dist, opt_.naive_t_min, dist};
+        } else {
+            // The segment from the offset origin to the light: t in [0, 1].
+            const Vec3d o = offset_origin(sp.p, sp.n, std::max(sp.offset, underflow_floor(sp.p, l.position - sp.p)));
+            r = Rayd{o, l.position - o, 0, 1};
+        }
+        double pass = 1;
+        for (const Object& obj : s_.objects) {
+            const Hitd h = query(r, obj.shape);
+            if (!h || (is_plane(obj.shape) && lies_in_plane(r, h))) continue;
+            pass *= s_.materials[std::size_t(obj.material)].transparency;
+            if (pass <= 0) {
+                ++st_.shadowed;
+                return Color::Zero();
+            }
+        }
+        return Color::Constant(pass);
+    }
+
+    const Scene& s_;
+    const TraceOptions& opt_;
+    Stats& st_;
+};
+
+template <class M> Color pixel(Tracer<M>& tr, const Scene& s, int x, int y, Stats& st) {
+    const int n = s.settings.supersample;
+    Color sum = Color::Zero();
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            const double px = x + (i + 0.5) / n, py = y + (j + 0.5) / n;
+            ++st.primary;
+            sum += tr.trace(camera_ray(s.camera, s.settings.width, s.settings.height, px, py), 1, 1.0);
+        }
+    return sum / double(n * n);
+}
+
+void draw_progress(double fraction, double seconds) {
+    constexpr int width = 40;
+    const int filled = int(fraction * width);
+    char bar[width + 1];
+    for (int i = 0; i < width; ++i) bar[i] = i < filled ? '#' : '.';
+    bar[width] = 0;
+    std::fprintf(stderr, "\rrendering [%s] %3d%% %6.1fs", bar, int(fraction * 100), seconds);
+    std::fflush(stderr);
+}
+
+template <class M> RenderResult render_in(const Scene& s, const RenderOptions& opt) {
+    RenderResult res;
+    const int w = s.settings.width, h = s.settings.height;
+    res.image = Image(w, h);
+    int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    threads = std::min(threads, h);
+    std::atomic<int> next_row{0}, rows_done{0};
+    std::vector<Stats> stats(static_cast<std::size_t>(threads));
+    std::mutex mu;
+    std::condition_variable cv;
+    const auto t0 = std::chrono::steady_clock::now();
+
+    auto work = [&](int k) {
+        Stats& st = stats[std::size_t(k)];
+        Tracer<M> tr(s, opt.trace, st);
+        for (int y; (y = next_row.fetch_add(1)) < h;) {
+            for (int x = 0; x < w; ++x) {
+                const Color c = pixel(tr, s, x, y, st);
+                std::uint8_t* px = res.image.at(x, y);
+                for (int ch = 0; ch < 3; ++ch) px[ch] = to_byte(c[ch]);
+            }
+            if (rows_done.fetch_add(1) + 1 == h) {
+                std::lock_guard<std::mutex> lock(mu);
+                cv.notify_all();
+            }
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int k = 1; k < threads; ++k) pool.emplace_back(work, k);
+    if (opt.progress) {
+        std::thread main_worker(work, 0);
+        bool shown = false;
+        std::unique_lock<std::mutex> lock(mu);
+        while (!cv.wait_for(lock, std::chrono::milliseconds(100), [&] { return rows_done.load() == h; })) {
+            const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            if (sec > 1) {
+                draw_progress(double(rows_done.load()) / h, sec);
+                shown = true;
+            }
+        }
+        lock.unlock();
+        main_worker.join();
+        if (shown) {
+            draw_progress(1, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            std::fputc('\n', stderr);
+        }
+    } else {
+        work(0);
+    }
+    for (auto& t : pool) t.join();
+    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (const Stats& st : stats) res.stats += st;
+    return res;
+}
+
+template <class F> auto with_mode(Mode m, F&& f) {
+    switch (m) {
+        case Mode::conservative: return f(conservative_t{});
+        case Mode::certified: return f(certified_t{});
+        case Mode::fast: break;
+    }
+    return f(fast_t{});
+}
+
+}  // namespace
+
+Stats& Stats::operator+=(const Stats& o) {
+    primary += o.primary;
+    shadow += o.shadow;
+    reflection += o.reflection;
+    refraction += o.refraction;
+    kernel_queries += o.kernel_queries;
+    invalid += o.invalid;
+    culled += o.culled;
+    shadowed += o.shadowed;
+    return *this;
+}
+
+const char* mode_name(Mode m) {
+    switch (m) {
+        case Mode::fast: return "fast";
+        case Mode::conservative: return "conservative";
+        case Mode::certified: return "certified";
+    }
+    return "?";
+}
+
+std::optional<Mode> parse_mode(std::string_view name) {
+    for (Mode m : all_modes)
+        if (name == mode_name(m)) return m;
+    return std::nullopt;
+}
+
+bool mode_available(Mode m) {
+    return with_mode(m, [](auto tag) { return mode_ready<decltype(tag)>; });
+}
+
+Ray<double> camera_ray(const Camera& cam, int width, int height, double px, double py) {
+    const Vec3d f = (cam.look_at - cam.position).normalized();
+    const Vec3d r = f.cross(cam.up).normalized();
+    const Vec3d u = r.cross(f);
+    const double tan_half = std::tan(cam.fov * (3.14159265358979323846 / 360));
+    const double sx = (2 * px / width - 1) * tan_half * (double(width) / height);
+    const double sy = (1 - 2 * py / height) * tan_half;
+    return Ray<double>{cam.position, f + sx * r + sy * u, 0, inf};
+}
+
+Vec3d offset_origin(const Vec3d& p, const Vec3d& n, double dist) {
+    Vec3d q;
+    for (int i = 0; i < 3; ++i) {
+        q[i] = p[i] + dist * n[i];
+        if (n[i] > 0) q[i] = std::nextafter(q[i], inf);
+        else if (n[i] < 0) q[i] = std::nextafter(q[i], -inf);
+    }
+    return q;
+}
+
+double underflow_floor(const Vec3d& p, const Vec3d& d) {
+    return 0x1p-60 * std::max(p.cwiseAbs().maxCoeff(), d.cwiseAbs().maxCoeff());
+}
+
+Vec3d reflect(const Vec3d& u, const Vec3d& n) { return u - 2 * u.dot(n) * n; }
+
+std::optional<Vec3d> refract(const Vec3d& u, const Vec3d& n, double eta) {
+    const double cos_i = -u.dot(n);
+    const double k = 1 - eta * eta * (1 - cos_i * cos_i);
+    if (k < 0) return std::nullopt;
+    return Vec3d(eta * u + (eta * cos_i - std::sqrt(k)) * n);
+}
+
+RenderResult render(const Scene& scene, const RenderOptions& options) {
+    return with_mode(scene.settings.mode, [&](auto tag) -> RenderResult {
+        using M = decltype(tag);
+        if constexpr (mode_ready<M>) {
+            return render_in<M>(scene, options);
+        } else {
+            RenderResult r;
+            r.error = std::string("mode '") + mode_name(scene.settings.mode) +
+                      "' is not available in this build of the kernel";
+            return r;
+        }
+    });
+}
+
+std::optional<Color> radiance(const Scene& scene, double px, double py, const TraceOptions& options, Stats* stats) {
+    return with_mode(scene.settings.mode, [&](auto tag) -> std::optional<Color> {
+        using M = decltype(tag);
+        if constexpr (mode_ready<M>) {
+            Stats local;
+            Stats& st = stats ? *stats : local;
+            Tracer<M> tr(scene, options, st);
+            ++st.primary;
+            return tr.trace(camera_ray(scene.camera, scene.settings.width, scene.settings.height, px, py), 1, 1.0);
+        } else {
+            return std::nullopt;
+        }
+    });
+}
+
+}  // namespace rayproof::render

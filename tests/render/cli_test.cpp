@@ -1,0 +1,85 @@
+// The `render` and `export-pov` subcommands, run in-process: a render to PPM and PNG at
+// the size asked for, option overrides, --diff between two modes, exit statuses for
+// usage errors (2) and for bad scenes or files (1), and --help.
+#include "render_support.hpp"
+
+#include <rayproof/render/cli.hpp>
+
+#include <fstream>
+#include <sstream>
+
+namespace rayproof::render::testing {
+namespace {
+
+int run(int (*cmd)(int, char**), std::vector<std::string> args) {
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    return cmd(int(args.size()), argv.data());
+}
+
+int render_cmd(std::vector<std::string> args) {
+    args.insert(args.begin(), "render");
+    return run(rayproof_cli_render, std::move(args));
+}
+
+TEST(Cli, RendersPpmAndPngAtTheRequestedSize) {
+    for (const char* ext : {"ppm", "png"}) {
+        const std::string out = scratch(std::string("out.") + ext);
+        ASSERT_EQ(render_cmd({scene_path("cube.json"), "-o", out, "--width", "16", "--height", "12", "--mode",
+                              mode_name(available_modes().back()), "--depth", "2", "--threads", "2", "-q"}),
+                  0);
+        Image img;
+        ASSERT_EQ(read_image(out, img), "");
+        EXPECT_EQ(img.width, 16);
+        EXPECT_EQ(img.height, 12);
+    }
+}
+
+TEST(Cli, DiffWritesAPictureOfTheDisagreement) {
+    const auto modes = available_modes();
+    if (modes.size() < 2) GTEST_SKIP() << "only one mode in this build";
+    const std::string out = scratch("diff.png");
+    ASSERT_EQ(render_cmd({scene_path("hostile.json"), "--diff", mode_name(modes.front()), mode_name(modes.back()),
+                          "-o", out, "--width", "32", "--height", "24"}),
+              0);
+    Image img;
+    ASSERT_EQ(read_image(out, img), "");
+    EXPECT_EQ(img.width, 32);
+}
+
+TEST(Cli, UsageErrorsExitWith2) {
+    const std::string scene = scene_path("cube.json"), out = scratch("x.png");
+    EXPECT_EQ(render_cmd({scene}), 2);                                    // no -o
+    EXPECT_EQ(render_cmd({"-o", out}), 2);                                // no scene
+    EXPECT_EQ(render_cmd({scene, "-o", scratch("x.gif")}), 2);            // unknown format
+    EXPECT_EQ(render_cmd({scene, "-o", out, "--width", "abc"}), 2);       // not a number
+    EXPECT_EQ(render_cmd({scene, "-o", out, "--width", "0"}), 2);         // out of range
+    EXPECT_EQ(render_cmd({scene, "-o", out, "--mode", "exact"}), 2);      // no such mode
+    EXPECT_EQ(render_cmd({scene, "-o", out, "--frobnicate"}), 2);         // unknown option
+    EXPECT_EQ(render_cmd({scene, "-o", out, "--diff", "fast"}), 2);       // --diff needs two modes
+    EXPECT_EQ(render_cmd({scene, scene, "-o", out}), 2);                  // two scenes
+    EXPECT_EQ(render_cmd({"--help"}), 0);
+}
+
+TEST(Cli, BadScenesAndFilesExitWith1) {
+    const std::string bad = scratch("bad.json");
+    std::ofstream(bad) << "{\"camera\": }";
+    EXPECT_EQ(render_cmd({bad, "-o", scratch("x.png")}), 1);
+    EXPECT_EQ(render_cmd({scratch("missing.json"), "-o", scratch("x.png")}), 1);
+    EXPECT_EQ(render_cmd({scene_path("cube.json"), "-o", "/nonexistent/dir/x.png", "--width", "4", "--height", "3"}), 1);
+}
+
+TEST(Cli, ExportPovWritesAFile) {
+    const std::string out = scratch("scene.pov");
+    ASSERT_EQ(run(rayproof_cli_export_pov, {"export-pov", scene_path("default.json"), "-o", out}), 0);
+    std::ifstream in(out);
+    std::stringstream text;
+    text << in.rdbuf();
+    EXPECT_NE(text.str().find("#version 3.7;"), std::string::npos);
+    EXPECT_EQ(run(rayproof_cli_export_pov, {"export-pov"}), 2);
+    EXPECT_EQ(run(rayproof_cli_export_pov, {"export-pov", scratch("missing.json")}), 1);
+}
+
+}  // namespace
+}  // namespace rayproof::render::testing

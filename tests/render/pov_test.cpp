@@ -1,0 +1,95 @@
+// The POV-Ray export: the text has one POV-Ray object per scene object (spheres, boxes
+// for both box kinds with a matrix for the oriented one, planes with unit normals),
+// every light and material, a right-handed camera; names cannot inject POV-Ray code;
+// and, when povray was found at configure time, every example scene's export parses
+// and renders with povray at 8×6 (otherwise the test is skipped and says why).
+#include "render_support.hpp"
+
+#include <rayproof/render/pov.hpp>
+
+#include <cstdlib>
+#include <fstream>
+
+namespace rayproof::render::testing {
+namespace {
+
+std::size_t occurrences(const std::string& text, const std::string& what) {
+    std::size_t n = 0;
+    for (std::size_t p = text.find(what); p != std::string::npos; p = text.find(what, p + 1)) ++n;
+    return n;
+}
+
+TEST(PovExport, OnePovObjectPerSceneObject) {
+    const Scene s = load_or_die(scene_path("default.json"));
+    const std::string pov = export_pov(s, "default.json");
+    std::size_t spheres = 0, boxes = 0, obbs = 0, planes = 0;
+    for (const Object& o : s.objects) {
+        spheres += std::holds_alternative<Sphere<double>>(o.shape);
+        boxes += std::holds_alternative<Aabb<double>>(o.shape) || std::holds_alternative<Obb<double>>(o.shape);
+        obbs += std::holds_alternative<Obb<double>>(o.shape);
+        planes += std::holds_alternative<Plane<double>>(o.shape);
+    }
+    EXPECT_EQ(occurrences(pov, "\nsphere {"), spheres);
+    EXPECT_EQ(occurrences(pov, "\nbox {"), boxes);
+    EXPECT_EQ(occurrences(pov, "matrix <"), obbs);
+    EXPECT_EQ(occurrences(pov, "\nplane {"), planes);
+    EXPECT_EQ(occurrences(pov, "light_source {"), s.lights.size());
+    EXPECT_EQ(occurrences(pov, "#declare M"), s.materials.size());
+    EXPECT_NE(pov.find("right -x*"), std::string::npos);
+    EXPECT_NE(pov.find("interior { ior 1.5 }"), std::string::npos);  // the glass
+}
+
+TEST(PovExport, ExactNumbersAndUnitPlaneNormal) {
+    Scene s;
+    s.camera = Camera{{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 45};
+    s.materials.push_back(matte(Color(0.5, 0.5, 0.5)));
+    Object plane;
+    plane.shape = Plane<double>{{0, 3, 4}, 10};  // normal·p == 10 <=> (0, 0.6, 0.8)·p == 2
+    s.objects.push_back(plane);
+    Object ball;
+    ball.shape = Sphere<double>{{0.1, 1e-300, 123456789.125}, 0.3};
+    s.objects.push_back(ball);
+    const std::string pov = export_pov(s);
+    EXPECT_NE(pov.find("plane {\n  <0, 0.6, 0.8>, 2\n"), std::string::npos) << pov;
+    EXPECT_NE(pov.find("<0.1, 1e-300, 123456789.125>, 0.3"), std::string::npos) << pov;
+}
+
+TEST(PovExport, NamesCannotInjectCode) {
+    Scene s = parse_or_die(R"({"camera": {"position": [0,0,5], "look_at": [0,0,0]},
+        "materials": {"evil\n#declare X = 1;": {"diffuse": 0.5}},
+        "objects": [{"type": "sphere", "name": "x\nsphere{0,1}", "center": [0,0,0], "radius": 1,
+                     "material": "evil\n#declare X = 1;"}]})");
+    const std::string pov = export_pov(s, "a\nb");
+    EXPECT_EQ(occurrences(pov, "\n#declare X"), 0u);  // only inside a comment line
+    EXPECT_EQ(occurrences(pov, "\nsphere{"), 0u);
+    EXPECT_EQ(occurrences(pov, "\nsphere {"), 1u);
+}
+
+class PovRay : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(PovRay, ExportParsesAndRenders) {
+#ifndef RAYPROOF_POVRAY
+    GTEST_SKIP() << "povray was not found when the build was configured";
+#else
+    const Scene s = load_or_die(scene_path(GetParam() + ".json"));
+    const std::string pov = scratch("scene.pov"), png = scratch("scene.png"), log = scratch("povray.log");
+    std::ofstream(pov) << export_pov(s, GetParam() + ".json");
+    std::remove(png.c_str());
+    const std::string cmd = std::string(RAYPROOF_POVRAY) + " +I" + pov + " +O" + png +
+                            " +W8 +H6 -D -P +FN File_Gamma=1.0 > " + log + " 2>&1";
+    const int rc = std::system(cmd.c_str());
+    std::ifstream in(log);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(rc, 0) << text;
+    EXPECT_EQ(text.find("Parse Error"), std::string::npos) << text;
+    Image img;
+    ASSERT_EQ(read_image(png, img), "") << text;
+    EXPECT_EQ(img.width, 8);
+    EXPECT_EQ(img.height, 6);
+#endif
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, PovRay, ::testing::Values("default", "cube", "hostile"));
+
+}  // namespace
+}  // namespace rayproof::render::testing
