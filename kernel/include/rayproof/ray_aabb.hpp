@@ -94,8 +94,10 @@ template <class T> std::optional<T> faithful_slab_value(T p, T o, T dT, double a
     const double d = dT;
     const double ai = std::abs(inv), at = std::abs(approx);
     // |d|, |t~| <= 2^995 also keeps Dekker's splitting (no hardware fma) from overflowing.
-    if (!(std::abs(se.hi) >= 0x1p-960 && at >= 0x1p-960 && at <= 0x1p995 && ai >= 0x1p-1022 && ai <= big &&
-          std::abs(d) <= 0x1p995))
+    // |s| <= 2^1020 also keeps two_sum itself exact (its intermediate s - a overflows
+    // within an ulp of the largest double, giving a NaN error term).
+    if (!(std::abs(se.hi) >= 0x1p-960 && std::abs(se.hi) <= 0x1p1020 && at >= 0x1p-960 && at <= 0x1p995 &&
+          ai >= 0x1p-1022 && ai <= big && std::abs(d) <= 0x1p995))
         return std::nullopt;
     const double t = approx + (se.lo - mul_sub(approx, d, se.hi)) * inv;
     if (std::abs(t) > double(std::numeric_limits<T>::max()))

@@ -6,9 +6,10 @@
 // Two exact number types share one interface, so an exact algorithm is written once
 // as a template on E and run with either (see with_exact below):
 //   Expansion<Cap>  a sum of up to Cap doubles (Shewchuk 1997). Fast: a few flops per
-//                   component. Exact when no product underflows (guaranteed for inputs
-//                   that pass expansion_safe) and the result needs at most Cap
-//                   components; anything else raises its overflowed() flag.
+//                   component. Exact when no product underflows (guaranteed for
+//                   polynomials of degree <= 6 in inputs that pass expansion_safe) and
+//                   the result needs at most Cap components; anything else raises its
+//                   overflowed() flag, so an unflagged value is always exact.
 //   BigDyadic       ±M·2^E with M a fixed array of 64-bit limbs. Slower, but exact for
 //                   every finite float or double, denormals included, up to the
 //                   documented degree.
@@ -17,11 +18,12 @@
 // double range), and overflowed() (sticky: the value is meaningless once it is set).
 //
 // Rounding is IEEE binary64, round to nearest even, no excess precision (SSE2 or any
-// target with IEEE double arithmetic). Never compile with -ffast-math. The
-// error-free transformations also need the compiler not to fuse a*b + c across
-// statements (GCC's default -ffp-contract=fast in GNU modes may do so once FMA
-// instructions are enabled): build with -std=c++20 (ISO mode, contraction off in
-// GCC) or -ffp-contract=off/on.
+// target with IEEE double arithmetic). Never compile with -ffast-math. Contraction
+// (fusing a*b + c into one fma) must not touch the error-free transformations: every
+// rounded product here is also an operand of std::fma(a, b, -p), which keeps
+// compilers from fusing it away, and the unit suite passes with -ffp-contract=fast
+// -march=native under g++ and clang++; ISO mode (-std=c++20: contraction off in GCC)
+// remains the recommended build.
 //
 // Reference: J. R. Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast
 // Robust Geometric Predicates", Discrete Comput. Geom. 18 (1997) — theorem numbers
@@ -43,6 +45,15 @@
 #include <type_traits>
 #include <utility>
 
+// The fixed arrays below are filled only up to their length field and every read stays
+// below it; after inlining, GCC's flow analysis cannot always see that and reports
+// false -Wmaybe-uninitialized warnings in the caller's build (zero-filling the arrays
+// instead would cost more than the arithmetic). Silenced for this header only.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
+
 namespace rayproof::detail {
 
 // ===================================================================================
@@ -55,9 +66,11 @@ struct Pair {
 };
 
 // Knuth's TwoSum: hi = fl(a + b) and lo = (a + b) − hi exactly. Branch-free, 6 flops,
-// no precondition on the order of a and b. Exact for all finite a, b whose rounded sum
-// does not overflow, subnormals included (the error of a floating-point addition is
-// always a representable number).
+// no precondition on the order of a and b. Exact whenever no operation overflows,
+// subnormals included (the error of a floating-point addition is always
+// representable); that holds for |a|, |b| <= 2^1022. Near ±max the intermediate
+// s − a can overflow although s does not: lo is then NaN (expansions catch it as a
+// non-finite component), never a wrong finite value.
 inline Pair two_sum(double a, double b) {
     const double s = a + b;
     const double bv = s - a;
@@ -65,9 +78,9 @@ inline Pair two_sum(double a, double b) {
     return {s, (a - av) + (b - bv)};
 }
 
-// Dekker's FastTwoSum: hi = fl(a + b), lo = (a + b) − hi, 3 flops. Exact under the same
-// conditions as two_sum provided a == 0 or exponent(a) >= exponent(b) (in particular
-// when |a| >= |b|).
+// Dekker's FastTwoSum: hi = fl(a + b), lo = (a + b) − hi, 3 flops. Exact when
+// a == 0 or exponent(a) >= exponent(b) (in particular when |a| >= |b|) and fl(a + b)
+// does not overflow (then s − a is exact, no intermediate can overflow).
 inline Pair fast_two_sum(double a, double b) {
     const double s = a + b;
     const double bv = s - a;
@@ -125,7 +138,8 @@ inline int sum(const double* e, int m, const double* f, int n, double s, double*
 }
 
 // h = e·b (SCALE-EXPANSION with zero elimination, Theorem 19); h has room for 2m.
-// Sets `tiny` when some product fell below kMinExactProduct (possibly inexact).
+// Sets `tiny` when a product fell below kMinExactProduct (possibly inexact); checking
+// the first suffices: e[0] is the smallest component, so e[0]·b the smallest product.
 inline int scale(const double* e, int m, double b, double* h, bool& tiny) {
     Pair p = two_prod(e[0], b);
     tiny |= !(std::abs(p.hi) >= kMinExactProduct);
@@ -134,7 +148,6 @@ inline int scale(const double* e, int m, double b, double* h, bool& tiny) {
     double q = p.hi;
     for (int i = 1; i < m; ++i) {
         p = two_prod(e[i], b);
-        tiny |= !(std::abs(p.hi) >= kMinExactProduct);
         const Pair s = two_sum(q, p.lo);
         if (s.lo != 0) h[k++] = s.lo;
         const Pair f = fast_two_sum(p.hi, s.hi);  // |p.hi| >= |s.hi| (Theorem 19)
@@ -204,11 +217,13 @@ public:
         if (x != 0 && !bad_) c_[n_++] = x;
     }
     Expansion(float x) noexcept : Expansion(static_cast<double>(x)) {}  // exact
-    Expansion(const Expansion& o) noexcept : n_(o.n_), bad_(o.bad_) { std::copy_n(o.c_, o.n_, c_); }
+    // Copies move only the components in use.
+    Expansion(const Expansion& o) noexcept : n_(o.n_), bad_(o.bad_) { copy_from(o); }
     Expansion& operator=(const Expansion& o) noexcept {
+        if (this == &o) return *this;
         n_ = o.n_;
         bad_ = o.bad_;
-        std::copy_n(o.c_, o.n_, c_);
+        copy_from(o);
         return *this;
     }
 
@@ -226,8 +241,8 @@ public:
         if (n_ == 0) return {0.0, 0};
         double top = c_[0], next = 0;
         if (n_ >= 2) {
-            double h[Cap] = {};
-            std::copy_n(c_, n_, h);
+            double h[Cap];
+            std::memcpy(h, c_, sizeof(double) * static_cast<std::size_t>(n_));
             const int k = exact_impl::compress(h, n_);
             top = h[k - 1];
             next = k >= 2 ? h[k - 2] : 0.0;
@@ -244,10 +259,8 @@ public:
     void compress() { n_ = exact_impl::compress(c_, n_); }
 
     friend Expansion operator-(const Expansion& a) {
-        Expansion r;
-        r.bad_ = a.bad_;
-        r.n_ = a.n_;
-        for (int i = 0; i < a.n_; ++i) r.c_[i] = -a.c_[i];
+        Expansion r(a);
+        for (int i = 0; i < r.n_; ++i) r.c_[i] = -r.c_[i];
         return r;
     }
     friend Expansion operator+(const Expansion& a, const Expansion& b) { return add(a, b, 1.0); }
@@ -255,6 +268,15 @@ public:
     friend Expansion operator*(const Expansion& a, const Expansion& b) {
         if (a.bad_ || b.bad_) return flagged();
         if (a.n_ == 0 || b.n_ == 0) return Expansion();
+        if (a.n_ == 1 && b.n_ == 1) {  // the common case: one two_prod
+            const Pair p = two_prod(a.c_[0], b.c_[0]);
+            const double m = std::abs(p.hi);
+            if (!(m >= exact_impl::kMinExactProduct && m <= std::numeric_limits<double>::max())) return flagged();
+            Expansion r;
+            if (p.lo != 0) r.c_[r.n_++] = p.lo;
+            r.c_[r.n_++] = p.hi;
+            return r;
+        }
         const Expansion& l = a.n_ >= b.n_ ? a : b;  // the longer one is scaled
         const Expansion& s = a.n_ >= b.n_ ? b : a;
         bool tiny = false;
@@ -277,6 +299,7 @@ public:
     Expansion& operator*=(const Expansion& o) { return *this = *this * o; }
 
 private:
+    void copy_from(const Expansion& o) { std::memcpy(c_, o.c_, sizeof(double) * static_cast<std::size_t>(o.n_)); }
     static Expansion flagged() {
         Expansion r;
         r.bad_ = true;
@@ -326,12 +349,17 @@ private:
 // limbs in use; the exponent is kept a whole number of limbs so that aligning two
 // operands never shifts bits. Normalized: no zero limb at either end (zero is n = 0).
 //
-// Capacity: kCapacity = 232 limbs = 14848 bits. Every double or float is an integer
-// multiple of 2^-1074 below 2^1024, so a product of k of them is a multiple of
-// 2^(-1074k) below 2^(1024k): a polynomial of total degree <= 7 in doubles, with up to
-// 2^16 monomials, spans 7·(1074 + 1024) + 16 = 14702 bits, plus at most 63 bits of
-// limb alignment: 14765 <= 14848. Any such value and every intermediate of computing
-// it therefore fits. Past that overflowed() is set (never a crash or an assertion).
+// Capacity: kCapacity = 232 limbs = 14848 bits. A value fits when it is an integer
+// multiple of 2^-7518 below 2^7184 in magnitude: 7518 + 7184 = 14702 bits, plus at
+// most 63 bits of limb alignment, 14765 <= 14848. Every double or float is a multiple
+// of 2^-1074 below 2^1024, so a product of k <= 7 of them is a multiple of 2^(-1074k)
+// below 2^(1024k): any polynomial of total degree <= 7 in doubles (denormals
+// included) with integer coefficients whose absolute values sum to at most 2^16 (e.g.
+// up to 2^16 monomials) fits, and so does every intermediate of evaluating it, as long
+// as the intermediates are such polynomials too (true for sums and products of
+// differences of inputs: the coefficient sums multiply). Degree 5 with 1000 terms,
+// the kernel's need, is far inside. Past the capacity overflowed() is set (never a
+// crash or an assertion).
 class BigDyadic {
 public:
     static constexpr int kCapacity = 232;
@@ -361,15 +389,15 @@ public:
         normalize();
     }
     BigDyadic(float x) noexcept : BigDyadic(static_cast<double>(x)) {}  // exact
-    BigDyadic(const BigDyadic& o) noexcept : n_(o.n_), neg_(o.neg_), of_(o.of_), lexp_(o.lexp_) {
-        std::copy_n(o.limb_, o.n_, limb_);
-    }
+    // Copies move only the limbs in use.
+    BigDyadic(const BigDyadic& o) noexcept : n_(o.n_), neg_(o.neg_), of_(o.of_), lexp_(o.lexp_) { copy_from(o); }
     BigDyadic& operator=(const BigDyadic& o) noexcept {
+        if (this == &o) return *this;
         n_ = o.n_;
         neg_ = o.neg_;
         of_ = o.of_;
         lexp_ = o.lexp_;
-        std::copy_n(o.limb_, o.n_, limb_);
+        copy_from(o);
         return *this;
     }
 
@@ -434,6 +462,10 @@ public:
 
 private:
     __extension__ typedef unsigned __int128 u128;
+
+    void copy_from(const BigDyadic& o) {
+        std::memcpy(limb_, o.limb_, sizeof(std::uint64_t) * static_cast<std::size_t>(o.n_));
+    }
 
     static BigDyadic flagged() {
         BigDyadic r;
@@ -552,12 +584,12 @@ template <class... E> bool any_overflowed(const E&... e) { return (e.overflowed(
 // model of Shewchuk's proofs. (k = 7 still gives grain −1064 >= −1074: still exact,
 // but the flag may rise and force the BigDyadic rerun.) Upper end: |x| <= 2^100, so
 // differences are < 2^102, degree-6 products < 2^612 and sums of 2^16 of them
-// < 2^628, far below 2^1024: no overflow. The brief's magnitude version checks the
-// same way: components of differences >= 2^(-100-52), degree-5 products
-// >= 2^(-152·5) = 2^-760, their two_prod error terms within 2^-106 of that, >= 2^-866,
-// well above 2^-1022. Floats: every finite float has grain >= −149 and magnitude
-// < 2^128, so degree-6 products have grain >= −894 (> −916: no flag) and magnitude
-// < 2^(6·129) = 2^774 (sums of 2^16 of them < 2^790): every finite float is safe.
+// < 2^628, far below 2^1024: no overflow. In terms of magnitudes: nonzero components
+// of differences are >= 2^(-100-52), degree-5 products >= 2^(-152·5) = 2^-760, their
+// two_prod error terms at most 2^-106 below that, >= 2^-866, well above 2^-1022.
+// Floats: every finite float has grain >= −149 and magnitude < 2^128, so degree-6
+// products have grain >= −894 (> −916: no flag) and magnitude < 2^(6·129) = 2^774
+// (sums of 2^16 of them < 2^790): every finite float is safe.
 template <class T>
     requires(std::is_same_v<T, float> || std::is_same_v<T, double>)
 bool expansion_safe(T x) {
@@ -723,15 +755,17 @@ template <class E, class T> E det3_exact(const Eigen::Matrix<T, 3, 3>& m) {
 // Exact sign of det(m) for any finite entries (0 for a non-finite entry).
 // Filter: when every nonzero entry is in [2^-300, 2^300] (always for float), the
 // determinant is evaluated in double as a(ei − fh) − b(di − fg) + c(dh − eg) with no
-// overflow and no underflow (products of two entries are normal and >= 2^-600, hence
-// multiples of 2^-652, so a nonzero minor is >= 2^-652 and a·minor >= 2^-952), so each
-// monomial sees at most 5 roundings (product, difference, product, two sums; fewer if
-// the compiler fuses): |det_fl − det| <= gamma(5)·P, P = Σ|monomials|. The permanent
-// P_fl, evaluated the same way on |entries|, satisfies P <= P_fl/(1 − gamma(5)), so
-// the error is <= gamma(5)/(1 − gamma(5))·P_fl <= gamma(6)·P_fl. The bound computed
-// as fl(fl(gamma(7))·P_fl) >= gamma(7)(1 − u)^2·P_fl >= gamma(6)·P_fl, so
-// |det_fl| > bound proves the sign. Otherwise: exact, Expansion when the entries are
-// expansion_safe (degree 3), else or on overflow BigDyadic.
+// overflow (everything < 2^904) and no underflow (products of two entries are normal
+// and >= 2^-600, hence multiples of 2^-652, so a nonzero minor is >= 2^-652 and
+// a·minor >= 2^-952; >= 2^-1004 if the compiler fuses e·i − f·h into one fma), so
+// each monomial sees at most 5 roundings (product, difference, product, two sums;
+// fewer if fused): |det_fl − det| <= gamma(5)·P, P = Σ|monomials|. The permanent P_fl,
+// evaluated the same way on |entries| (nonnegative terms, each >= 2^-900), satisfies
+// P <= P_fl/(1 − gamma(5)), so the error is <= gamma(5)/(1 − gamma(5))·P_fl
+// <= gamma(6)·P_fl. The bound is computed as fl(fl(gamma(7))·P_fl) (normal: >= 2^-950)
+// >= gamma(7)(1 − u)^2·P_fl >= gamma(6)·P_fl, so |det_fl| > bound proves the sign.
+// Otherwise: exact, with Expansion when the entries are expansion_safe (degree 3),
+// else (or on overflow) with BigDyadic.
 template <class T> int det3_sign(const Eigen::Matrix<T, 3, 3>& m) {
     static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
     bool filterable = true;
@@ -762,3 +796,7 @@ template <class T> int det3_sign(const Eigen::Matrix<T, 3, 3>& m) {
 }
 
 }  // namespace rayproof::detail
+
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic pop
+#endif
