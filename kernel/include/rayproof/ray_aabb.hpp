@@ -133,6 +133,10 @@ public:
     }
     int den_sign(int i) const { return (d_[i] > 0) - (d_[i] < 0); }
     bool inside_parallel(int i) const { return b_->lo[i] <= o_[i] && o_[i] <= b_->hi[i]; }
+    // Both are exact comparisons of floats already (the names the other frames use for
+    // their exact stage).
+    int den_sign_exact(int i) const { return den_sign(i); }
+    bool inside_parallel_exact(int i) const { return inside_parallel(i); }
     Interval<double> enclose(int i, int side) const {
         if (ok_) return {t_[i][side] - e_[i][side], t_[i][side] + e_[i][side]};
         const double s = double(plane(i, side)) - double(o_[i]);

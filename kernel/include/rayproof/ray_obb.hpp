@@ -74,6 +74,11 @@ public:
         const double h = b_->half_extent[i];
         if (-h <= op_[i].lo && op_[i].hi <= h) return true;
         if (op_[i].lo > h || op_[i].hi < -h) return false;
+        return inside_parallel_exact(i);
+    }
+    // The same decisions without the interval filter (the exact stage alone).
+    bool inside_parallel_exact(int i) const {
+        const double h = b_->half_extent[i];
         const std::optional<bool> in = with_exact(safe(), [&](auto tag) -> std::optional<bool> {
             using E = typename decltype(tag)::type;
             const E o = oprime<E>(i), eh(h);
@@ -105,6 +110,8 @@ public:
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, i, side);
     }
+
+    int den_sign_exact(int i) const { return exact_den_sign(i); }
 
 private:
     template <class E> E oprime(int i) const {

@@ -71,13 +71,20 @@ public:
         num_ = n;
         den_ = d;
         const int s = d.certain_sign();
-        sden_ = s != 2 ? s : exact_sign([&](auto tag) { return den<typename decltype(tag)::type>(); });
+        sden_ = s != 2 ? s : den_sign_exact();
     }
     int den_sign() const { return sden_; }
     // parallel ray: does it lie in the plane (num == 0)?
     bool in_plane() const {
         const int s = num_.certain_sign();
         if (s != 2) return s == 0;
+        return in_plane_exact();
+    }
+    // The same decisions without the interval filter (the exact stage alone).
+    int den_sign_exact() const {
+        return exact_sign([&](auto tag) { return den<typename decltype(tag)::type>(); });
+    }
+    bool in_plane_exact() const {
         return exact_sign([&](auto tag) { return num<typename decltype(tag)::type>(); }) == 0;
     }
     Interval<double> enclose() const { return divide_signed(num_, den_, sden_); }
@@ -131,11 +138,11 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, cons
     return h;
 }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+// The certified decisions on a crossing X (PlaneCrossing, or a test's wrapper that
+// turns the interval filter off to exercise the exact stage alone).
+template <class T, class X> Hit<T> plane_certified(const Ray<T>& r, const X& x) {
     RAYPROOF_COUNT_QUERY();
     bool went_exact = false;
-    const PlaneCrossing<T> x(r, p.plane);
     Hit<T> h;
     if (x.den_sign() == 0) {
         if (!x.in_plane()) return h;
@@ -179,6 +186,11 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, cert
     }
     RAYPROOF_COUNT_FLUSH(went_exact);
     return h;
+}
+
+template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
+    return plane_certified(r, PlaneCrossing<T>(r, p.plane));
 }
 
 }  // namespace rayproof::detail

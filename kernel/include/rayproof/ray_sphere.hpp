@@ -277,11 +277,11 @@ template <class P> std::int64_t first_true(std::int64_t lo, std::int64_t hi, std
     return hi;
 }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+// The certified decisions on a quadratic Q (SphereQuadratic, or a test's wrapper that
+// turns the interval filter off to exercise the exact stage alone).
+template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q) {
     RAYPROOF_COUNT_QUERY();
     bool went_exact = false;
-    const SphereQuadratic<T> q(r, p.sphere);
     Hit<T> h;
     constexpr T big = std::numeric_limits<T>::max();
     // sign of q at t (t = ±inf: +1, q grows without bound), and of a t + b (t = ±inf: ±1).
@@ -351,6 +351,11 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, cer
     if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;
     RAYPROOF_COUNT_FLUSH(went_exact);
     return h;
+}
+
+template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
+    return sphere_certified(r, SphereQuadratic<T>(r, p.sphere));
 }
 
 }  // namespace rayproof::detail
