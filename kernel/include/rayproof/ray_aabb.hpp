@@ -96,8 +96,9 @@ template <class T> std::optional<T> faithful_slab_value(T p, T o, T dT, double a
     // |d|, |t~| <= 2^995 also keeps Dekker's splitting (no hardware fma) from overflowing.
     // |s| <= 2^1020 also keeps two_sum itself exact (its intermediate s - a overflows
     // within an ulp of the largest double, giving a NaN error term).
-    if (!(std::abs(se.hi) >= 0x1p-960 && std::abs(se.hi) <= 0x1p1020 && at >= 0x1p-960 && at <= 0x1p995 &&
-          ai >= 0x1p-1022 && ai <= big && std::abs(d) <= 0x1p995))
+    const double as = std::abs(se.hi);
+    if (!(int(as >= 0x1p-960) & int(as <= 0x1p1020) & int(at >= 0x1p-960) & int(at <= 0x1p995) &
+          int(ai >= 0x1p-1022) & int(ai <= big) & int(std::abs(d) <= 0x1p995)))
         return std::nullopt;
     const double t = approx + (se.lo - mul_sub(approx, d, se.hi)) * inv;
     if (std::abs(t) > double(std::numeric_limits<T>::max()))
@@ -180,56 +181,49 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 // Bound: with 1/d normal and finite (|d| in [2^-1022, 2^1022]), p - o exact when it is
 // subnormal, and a subnormal product off by at most 2^-1075, each computed value is
 // within gamma(3)|t| + 2^-1075 of t; the ends t~ ∓ (K|t~| + eta), K = 2·gamma(3),
-// eta = 2^-1070, cover that and their own two roundings (see the header comment). An
+// eta = 2^-1022 (the smallest normal: a subnormal constant would slow every query on
+// processors that take an assist on subnormal operands), cover that and their own two roundings (see the header comment). An
 // overflowed value (±inf) makes some check compare a NaN, which fails it.
 template <class T> std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
-    constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1070, inf = std::numeric_limits<double>::infinity();
-    double t_in[3], t_out[3];
-    bool ok = true, par[3];
+    constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
+    const double d0 = r.direction[0], d1 = r.direction[1], d2 = r.direction[2];
+    // Parallel axes (d_i == ±0) and directions whose reciprocal is not a normal double
+    // go to the general path.
+    const double a0 = std::abs(d0), a1 = std::abs(d1), a2 = std::abs(d2);
+    if (!((std::min(std::min(a0, a1), a2) >= 0x1p-1022) & (std::max(std::max(a0, a1), a2) <= 0x1p1022)))
+        return std::nullopt;
+    // Latest entry (t_min first, strict > keeps the lowest axis on ties), earliest exit,
+    // and the runners-up (the largest value among the entries that did not win, the
+    // smallest among the exits), all branch-free: w and x are as random as the rays.
+    int w = -1, x = -1;
+    double in = r.t_min, out = r.t_max, in2 = -inf, out2 = inf;
     for (int i = 0; i < 3; ++i) {
-        const double d = r.direction[i], o = r.origin[i];
-        par[i] = d == 0;
-        if (par[i]) {  // parallel: exact, the closed slab holds the origin or the ray misses
-            if (o < double(b.lo[i]) || o > double(b.hi[i])) return Hit<T>{};
-            t_in[i] = -inf;
-            t_out[i] = inf;
-            continue;
-        }
-        const double a = std::abs(d);
-        ok &= (a >= 0x1p-1022) & (a <= 0x1p1022);
-        const double inv = 1.0 / d;
+        const double inv = 1.0 / r.direction[i], o = r.origin[i];
         const double t_lo = (double(b.lo[i]) - o) * inv;
         const double t_hi = (double(b.hi[i]) - o) * inv;
-        const bool neg = d < 0;
-        t_in[i] = pick(neg, t_hi, t_lo);
-        t_out[i] = pick(neg, t_lo, t_hi);
-    }
-    if (!ok) return std::nullopt;
-    // Latest entry (t_min first, strict > keeps the lowest axis on ties), earliest exit.
-    int w = -1, x = -1;
-    double in = r.t_min, out = r.t_max;
-    for (int i = 0; i < 3; ++i) {  // branch-free, as slab_fast
-        const bool later = t_in[i] > in, earlier = t_out[i] < out;
+        // No NaN here (d != 0, 1/d finite): the entry is the smaller value, whatever
+        // the sign of d, in float registers throughout.
+        const double t_in = std::min(t_lo, t_hi), t_out = std::max(t_lo, t_hi);
+        const bool later = t_in > in, earlier = t_out < out;
         w += int(later) * (i - w);
         x += int(earlier) * (i - x);
-        in = t_in[i] > in ? t_in[i] : in;
-        out = t_out[i] < out ? t_out[i] : out;
+        in2 = std::max(in2, std::min(in, t_in));
+        out2 = std::min(out2, std::max(out, t_out));
+        in = t_in > in ? t_in : in;
+        out = t_out < out ? t_out : out;
     }
+    // The winner's bound strictly beyond the runner-up's (a tie fails this and goes to
+    // the exact stage). Bounds are put on t_min and t_max too although they are exact
+    // (fewer branches; it only makes the filter a little more cautious). After three
+    // axes the runners-up are finite unless a value overflowed, which makes a bound
+    // NaN and fails the check.
     const double ein = K * std::abs(in) + eta, eout = K * std::abs(out) + eta;
-    const double in_lo = w < 0 ? in : in - ein, in_hi = w < 0 ? in : in + ein;
-    const double out_lo = x < 0 ? out : out - eout, out_hi = x < 0 ? out : out + eout;
-    // Every other candidate's bound strictly on the far side of the winner's (branch-free:
-    // w and x are as random as the rays; parallel axes hold ±inf, exact, and are excused).
-    bool sure = ((w < 0) | (double(r.t_min) < in_lo)) & ((x < 0) | (double(r.t_max) > out_hi));
-    for (int i = 0; i < 3; ++i) {
-        const bool in_apart = t_in[i] + (K * std::abs(t_in[i]) + eta) < in_lo;
-        const bool out_apart = t_out[i] - (K * std::abs(t_out[i]) + eta) > out_hi;
-        sure &= par[i] | (((i == w) | in_apart) & ((i == x) | out_apart));
-    }
-    if (!sure) return std::nullopt;
+    const double in_lo = in - ein, in_hi = in + ein, out_lo = out - eout, out_hi = out + eout;
+    const double in2_hi = in2 + (K * std::abs(in2) + eta), out2_lo = out2 - (K * std::abs(out2) + eta);
+    const bool miss = in_lo > out_hi, hit = in_hi < out_lo;
+    if (!(int(in2_hi < in_lo) & int(out2_lo > out_hi) & (int(miss) | int(hit)))) return std::nullopt;
     Hit<T> h;
-    if (in_lo > out_hi) return h;                // entry certainly after exit: miss
-    if (!(in_hi < out_lo)) return std::nullopt;  // too close to call here
+    if (miss) return h;  // entry certainly after exit
     h.verdict = Verdict::hit;
     if (w >= 0) {
         const bool neg = r.direction[w] < 0;
@@ -242,8 +236,9 @@ template <class T> std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, 
         h.t_enter = r.t_min;
     }
     if (x >= 0) {
-        const std::optional<T> t = faithful_slab_value<T>(r.direction[x] < 0 ? b.lo[x] : b.hi[x], r.origin[x],
-                                                          r.direction[x], out, 1.0 / double(r.direction[x]));
+        const std::optional<T> t =
+            faithful_slab_value<T>(r.direction[x] < 0 ? b.lo[x] : b.hi[x], r.origin[x], r.direction[x], out,
+                                   1.0 / double(r.direction[x]));
         if (!t) return std::nullopt;
         h.t_exit = *t;
     } else {
