@@ -197,10 +197,14 @@ template <class T> std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, 
     // smallest among the exits), all branch-free: w and x are as random as the rays.
     int w = -1, x = -1;
     double in = r.t_min, out = r.t_max, in2 = -inf, out2 = inf;
+    double finite = 0;  // stays 0 while every slab value is finite, NaN otherwise (x - x)
     for (int i = 0; i < 3; ++i) {
         const double inv = 1.0 / r.direction[i], o = r.origin[i];
         const double t_lo = (double(b.lo[i]) - o) * inv;
         const double t_hi = (double(b.hi[i]) - o) * inv;
+        // p - o can overflow although (p - o)/d is moderate: such a value must not be
+        // taken for "no constraint".
+        finite += (t_lo - t_lo) + (t_hi - t_hi);
         // No NaN here (d != 0, 1/d finite): the entry is the smaller value, whatever
         // the sign of d, in float registers throughout.
         const double t_in = std::min(t_lo, t_hi), t_out = std::max(t_lo, t_hi);
@@ -214,14 +218,14 @@ template <class T> std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, 
     }
     // The winner's bound strictly beyond the runner-up's (a tie fails this and goes to
     // the exact stage). Bounds are put on t_min and t_max too although they are exact
-    // (fewer branches; it only makes the filter a little more cautious). After three
-    // axes the runners-up are finite unless a value overflowed, which makes a bound
-    // NaN and fails the check.
+    // (fewer branches; it only makes the filter a little more cautious). With every slab
+    // value finite, the runners-up are finite after three axes.
     const double ein = K * std::abs(in) + eta, eout = K * std::abs(out) + eta;
     const double in_lo = in - ein, in_hi = in + ein, out_lo = out - eout, out_hi = out + eout;
     const double in2_hi = in2 + (K * std::abs(in2) + eta), out2_lo = out2 - (K * std::abs(out2) + eta);
     const bool miss = in_lo > out_hi, hit = in_hi < out_lo;
-    if (!(int(in2_hi < in_lo) & int(out2_lo > out_hi) & (int(miss) | int(hit)))) return std::nullopt;
+    if (!(int(in2_hi < in_lo) & int(out2_lo > out_hi) & (int(miss) | int(hit)) & int(finite == 0)))
+        return std::nullopt;
     Hit<T> h;
     if (miss) return h;  // entry certainly after exit
     h.verdict = Verdict::hit;
