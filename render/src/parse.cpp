@@ -55,7 +55,8 @@ std::string show(const json& j) {
 }
 
 std::string join_path(const std::string& parent, const std::string& key) {
-    return parent.empty() ? key : parent + "." + key;
+    const std::string shown = key.empty() ? "\"\"" : key;  // an empty key is still named
+    return parent.empty() ? shown : parent + "." + shown;
 }
 
 // One JSON object of the schema: its keys are checked against the allowed ones (a typo

@@ -75,7 +75,9 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, fas
         t1 = c / q;
         if (t1 < t0) std::swap(t0, t1);
     }
-    if (t0 > r.t_max || t1 < r.t_min) return h;
+    // Squares that overflow or underflow T (|d|² beyond the range, say) leave NaN here:
+    // fast mode answers miss then (it promises nothing; the other modes are exact there).
+    if (std::isnan(t0) || std::isnan(t1) || t0 > r.t_max || t1 < r.t_min) return h;
     h.verdict = Verdict::hit;
     h.t_enter = std::max(t0, r.t_min);
     h.t_exit = std::min(t1, r.t_max);
