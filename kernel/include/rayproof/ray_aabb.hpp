@@ -190,7 +190,7 @@ template <class T> std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, 
     // Parallel axes (d_i == ±0) and directions whose reciprocal is not a normal double
     // go to the general path.
     const double a0 = std::abs(d0), a1 = std::abs(d1), a2 = std::abs(d2);
-    if (!((std::min(std::min(a0, a1), a2) >= 0x1p-1022) & (std::max(std::max(a0, a1), a2) <= 0x1p1022)))
+    if (!(int(std::min(std::min(a0, a1), a2) >= 0x1p-1022) & int(std::max(std::max(a0, a1), a2) <= 0x1p1022)))
         return std::nullopt;
     // Latest entry (t_min first, strict > keeps the lowest axis on ties), earliest exit,
     // and the runners-up (the largest value among the entries that did not win, the

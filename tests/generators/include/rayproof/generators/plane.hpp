@@ -1,0 +1,202 @@
+// rayproof/generators/plane.hpp — case generators for ray vs plane.
+//
+// Constructed families: an integer normal n and an integer point P give the exact offset
+// n·P; d = n × w is exactly parallel to the plane, so o = P - s·d lies exactly in it.
+#pragma once
+
+#include <rayproof/generators/core.hpp>
+
+namespace rayproof::gen {
+
+namespace detail {
+template <class T> bool plane_from_integers(const I3& n, const I3& point, const I3& origin, const Vec3<T>& d,
+                                            std::int64_t offset_shift, Case<T, Plane<T>>& c) {
+    const std::int64_t offset = dot(n, point) + offset_shift;
+    if (!representable<T>(n) || !representable<T>(origin) || !representable<T>(offset)) return false;
+    c.shape.normal = to_vec<T>(n);
+    c.shape.offset = T(offset);
+    c.ray.origin = to_vec<T>(origin);
+    c.ray.direction = d;
+    return true;
+}
+}  // namespace detail
+
+// General position: a random normal in [-1, 1]³, an offset in [-8, 8], an origin in
+// [-16, 16]³ and a random direction (about half the rays cross the plane ahead).
+template <class T> Case<T, Plane<T>> plane_general(Rng& rng) {
+    Case<T, Plane<T>> c{{}, {}, "general"};
+    c.shape.normal = nonzero_vec<T>(rng, [](Rng& g) { return uniform<T>(g, -1, 1); });
+    c.shape.offset = uniform<T>(rng, -8, 8);
+    for (int i = 0; i < 3; ++i) c.ray.origin[i] = uniform<T>(rng, -16, 16);
+    c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return uniform<T>(g, -1, 1); });
+    random_t_range(c.ray, rng, 64);
+    return c;
+}
+
+// Every number log-uniform over the whole exponent range of T.
+template <class T> Case<T, Plane<T>> plane_log_uniform(Rng& rng) {
+    Case<T, Plane<T>> c{{}, {}, "log_uniform"};
+    c.shape.normal = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+    c.shape.offset = wide_value<T>(rng);
+    for (int i = 0; i < 3; ++i) c.ray.origin[i] = wide_value<T>(rng);
+    c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+    if (chance(rng, 1, 4)) {
+        T a = wide_value<T>(rng), b = wide_value<T>(rng);
+        if (b < a) std::swap(a, b);
+        c.ray.t_min = chance(rng, 1, 4) ? -kInf<T> : a;
+        c.ray.t_max = chance(rng, 1, 4) ? kInf<T> : b;
+    }
+    return c;
+}
+
+// Exact grazing for a plane: the ray lies exactly in it (n·d == 0 and n·o == offset
+// exactly), on ranges finite, half-infinite or the whole line.
+template <class T> Case<T, Plane<T>> plane_grazing(Rng& rng) {
+    for (;;) {
+        Case<T, Plane<T>> c{{}, {}, "grazing"};
+        const I3 n = random_nonzero_i3(rng, 8);
+        const I3 d = cross(n, random_nonzero_i3(rng, 8));
+        if (is_zero(d)) continue;
+        const I3 p0 = random_i3(rng, -8, 8);
+        const I3 p = add(p0, random_translation<T>(rng));
+        const std::int64_t s = uniform_int(rng, -8, 8);
+        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), 0, c)) continue;
+        if (chance(rng, 1, 2)) c.shape.normal = to_vec_signed_zeros<T>(n, rng);
+        special_t_range(c.ray, rng, T(s));
+        random_exact_scaling(c, rng);
+        return c;
+    }
+}
+
+// The in-plane rays with one direction component moved by one ulp either way (a crossing
+// at a huge |t|, ahead or behind), or the offset or one origin coordinate moved by one
+// ulp (parallel, just off the plane).
+template <class T> Case<T, Plane<T>> plane_near_grazing(Rng& rng) {
+    Case<T, Plane<T>> c = plane_grazing<T>(rng);
+    c.generator = "near_grazing";
+    const int i = int(below(rng, 3));
+    const auto k = below(rng, 6);
+    if (k == 0)
+        c.shape.offset = nudge(c.shape.offset, random_sign(rng));
+    else if (k == 1)
+        c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
+    else
+        c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
+    if (c.ray.direction.isZero()) c.ray.direction[i] = std::numeric_limits<T>::denorm_min();
+    return c;
+}
+
+// Exactly parallel rays (n·d == 0) off the plane by an integer distance, and axis-aligned
+// normals with the matching direction component +0 or -0, origin on or off the plane.
+template <class T> Case<T, Plane<T>> plane_parallel(Rng& rng) {
+    for (;;) {
+        Case<T, Plane<T>> c{{}, {}, "parallel"};
+        I3 n, d;
+        if (chance(rng, 1, 2)) {
+            n = random_nonzero_i3(rng, 8);
+            d = cross(n, random_nonzero_i3(rng, 8));
+        } else {
+            const int a = int(below(rng, 3));
+            n = {0, 0, 0};
+            n[a] = signed_int(rng, 1, 8);
+            d = random_nonzero_i3(rng, 8);
+            d[a] = 0;
+        }
+        if (is_zero(d)) continue;
+        const I3 p0 = random_i3(rng, -8, 8);
+        const I3 p = add(p0, random_translation<T>(rng));
+        const std::int64_t shift = chance(rng, 1, 3) ? 0 : signed_int(rng, 1, 16);
+        const std::int64_t s = uniform_int(rng, -4, 4);
+        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), shift, c))
+            continue;
+        c.shape.normal = to_vec_signed_zeros<T>(n, rng);
+        random_t_range(c.ray, rng, 16);
+        random_exact_scaling(c, rng);
+        return c;
+    }
+}
+
+// Origins exactly on the plane (the crossing at t = 0, with t_min = 0 or t_min just
+// above), or crossings exactly at t_min or t_max (or a one-point range [s, s]).
+template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
+    for (;;) {
+        Case<T, Plane<T>> c{{}, {}, "on_boundary"};
+        const I3 n = random_nonzero_i3(rng, 8);
+        const I3 d = random_nonzero_i3(rng, 8);
+        if (dot(n, d) == 0) continue;
+        const I3 p0 = random_i3(rng, -8, 8);
+        const I3 p = add(p0, random_translation<T>(rng));
+        const bool at_origin = chance(rng, 1, 2);
+        const std::int64_t s = at_origin ? 0 : uniform_int(rng, -8, 8);
+        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), 0, c)) continue;
+        if (at_origin) {
+            const auto k = below(rng, 3);
+            c.ray.t_min = k == 0 ? T(0) : k == 1 ? std::numeric_limits<T>::denorm_min() : -T(0);
+            c.ray.t_max = chance(rng, 1, 2) ? kInf<T> : T(uniform_int(rng, 0, 4));
+            if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
+        } else {
+            special_t_range(c.ray, rng, T(s));
+        }
+        random_exact_scaling(c, rng);
+        return c;
+    }
+}
+
+// Extreme scenes: nearly parallel rays (d rounded into the plane, so n·d is a few
+// roundings from 0), a plane far from the origin, a denormal-sized normal, a huge
+// normal and direction whose dot product overflows T.
+template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
+    using L = std::numeric_limits<T>;
+    Case<T, Plane<T>> c = plane_general<T>(rng);
+    c.generator = "extreme";
+    const auto kind = below(rng, 4);
+    if (kind == 0) {  // nearly parallel
+        const Vec3<T> w = nonzero_vec<T>(rng, [](Rng& g) { return uniform<T>(g, -1, 1); });
+        c.ray.direction = c.shape.normal.cross(w);
+        if (c.ray.direction.isZero()) c.ray.direction = Vec3<T>(1, 0, 0);
+        if (chance(rng, 1, 2)) {
+            const int j = int(below(rng, 3));
+            c.ray.direction[j] = nudge(c.ray.direction[j], random_sign(rng));
+        }
+    } else if (kind == 1) {  // far plane
+        c.shape.offset = magnitude<T>(rng, 20, L::max_exponent - 2);
+        c.ray.direction = c.shape.normal * (c.shape.offset < 0 ? T(-1) : T(1));
+        const int j = int(below(rng, 3));
+        c.ray.direction[j] = nudge(c.ray.direction[j], int(uniform_int(rng, -4, 4)));
+        if (c.ray.direction.isZero()) c.ray.direction = Vec3<T>(0, 0, 1);
+    } else if (kind == 2) {  // denormal normal
+        for (int i = 0; i < 3; ++i)
+            c.shape.normal[i] = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent);
+        c.shape.offset = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent + 8);
+    } else {  // huge normal and direction
+        for (int i = 0; i < 3; ++i) {
+            c.shape.normal[i] = magnitude<T>(rng, L::max_exponent / 2, L::max_exponent - 1);
+            c.ray.direction[i] = magnitude<T>(rng, L::max_exponent / 2, L::max_exponent - 1);
+            c.ray.origin[i] = wide_value<T>(rng);
+        }
+        c.shape.offset = wide_value<T>(rng);
+    }
+    return c;
+}
+
+// Invalid inputs: every ray rule, a zero normal (signed zeros mixed), NaN or inf in the
+// normal or the offset.
+template <class T> Case<T, Plane<T>> plane_invalid(Rng& rng) {
+    Case<T, Plane<T>> c = chance(rng, 1, 2) ? plane_general<T>(rng) : plane_grazing<T>(rng);
+    c.generator = "invalid";
+    const auto k = below(rng, unsigned(RayFault::count) + 2);
+    if (k < unsigned(RayFault::count)) {
+        break_ray(c.ray, RayFault(k), rng);
+    } else if (k == unsigned(RayFault::count)) {
+        for (int i = 0; i < 3; ++i) c.shape.normal[i] = (rng() & 1) ? T(0) : -T(0);
+    } else {
+        const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
+        if (chance(rng, 1, 2))
+            c.shape.offset = bad;
+        else
+            c.shape.normal[below(rng, 3)] = bad;
+    }
+    return c;
+}
+
+}  // namespace rayproof::gen

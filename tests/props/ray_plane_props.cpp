@@ -1,0 +1,12 @@
+// ray_plane_props.cpp — RapidCheck properties of ray vs plane: rays lying exactly in the plane, exactly parallel rays off it, nearly parallel rays.
+//
+// Covered, for float and double, over every generator of the shape (see
+// props_support.hpp): every mode answers invalid exactly for invalid inputs;
+// conservative never misses an exact hit and encloses the exact interval; certified
+// equals the exact oracle (verdict, face, faithfully rounded t); oracle-free invariants
+// of certified under exact power-of-two scaling, axis permutation and ray reversal; a
+// hit's interval is ordered; batch equals scalar bit for bit; and the fast mode's wrong
+// answers counted per generator (printed, not asserted).
+#include "props_support.hpp"
+
+RAYPROOF_PROPERTY_SUITE(PlaneProps, rayproof::Plane)
