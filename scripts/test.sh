@@ -23,5 +23,10 @@ for cc in g++ clang++; do
     grep -B2 -A40 -E "\*\*\*Failed|\*\*\*Timeout|\*\*\*Exception" "$ROOT/build/$name.ctest.log" | head -200
   fi
 done
+# The bounded fuzzing stage: sanitizer build, regression replay, RAYPROOF_FUZZ_SECONDS
+# (default 20) of fuzzing per target from the committed corpora.
+if [ -x "$ROOT/fuzz/ci.sh" ]; then
+  "$ROOT/fuzz/ci.sh" || status=1
+fi
 [ $status -eq 0 ] && echo "== all suites passed" || echo "== FAILED"
 exit $status

@@ -1,0 +1,176 @@
+// bench/bench_common.hpp — the timing harness shared by the per-shape benchmark files.
+//
+// Names (parsed by the report):
+//   scalar/<shape>/<float|double>/<workload>/<method>   one query per case, each case its
+//                                                       own shape; items = queries
+//   batch/<shape>/<float|double>/<mode>/<rays>          intersect(span, shape, mode, out)
+//                                                       on one shape; items = rays
+// Methods: the kernel's modes fast, conservative, certified; the baselines textbook,
+// branchless (boxes), cgal_epeck, cgal_rational (Aabb, Plane, Sphere), embree and
+// embree_robust (Sphere<float>).
+//
+// The scalar loop answers the first `cases` cases of a workload (same seed, same cases
+// for every method: the accuracy tool judges these very rays) into an output array, as
+// an application would; ns per query = time per pass / cases.
+#pragma once
+
+#include "baselines.hpp"
+#include "watchdog.hpp"
+#include "workloads.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rayproof::bench {
+
+struct Options {
+    std::size_t cases = 4096;          // cases per scalar benchmark (the timed set)
+    std::size_t cgal_cases = 4096;     // the prefix of it timed for the CGAL baselines
+    std::size_t batch_max = 1000000;   // the largest batch (sizes 1, 10, ..., batch_max)
+    std::uint64_t seed = kDefaultSeed;
+    double watchdog = 60;  // seconds for the untimed check pass of each method (0: none)
+};
+Options& options();
+
+// Parses and removes --cases=N --cgal_cases=N --batch_max=N --seed=S --watchdog=SECONDS from argv (after
+// benchmark::Initialize has taken its own flags); false on an unknown argument.
+bool parse_options(int& argc, char** argv);
+
+template <class T, class Shape> std::string bench_name(const char* kind, std::string_view a, std::string_view b) {
+    return std::string(kind) + "/" + std::string(gen::shape_name<Shape>()) + "/" + std::string(gen::scalar_name<T>()) +
+           "/" + std::string(a) + "/" + std::string(b);
+}
+
+// The workload's timed cases, built on first use and kept.
+template <class T, class Shape> const std::vector<Case<T, Shape>>& timed_cases(const std::string& workload_name) {
+    static std::map<std::string, std::unique_ptr<std::vector<Case<T, Shape>>>> cache;
+    auto& slot = cache[workload_name];
+    if (!slot)
+        slot = std::make_unique<std::vector<Case<T, Shape>>>(
+            workload<T, Shape>(workload_name, options().cases, options().seed));
+    return *slot;
+}
+
+// Before a method is timed, one untimed pass over its cases runs in a child process
+// with a deadline (once per benchmark): a method that hangs or crashes on some case is
+// reported as the benchmark's error, naming the case, and is not timed.
+template <class F> bool passes_watchdog(benchmark::State& st, const std::string& key, std::size_t n, F pass) {
+    if (options().watchdog <= 0) return true;
+    static std::map<std::string, std::string> verdicts;  // key -> "" (fine) or what happened
+    auto it = verdicts.find(key);
+    if (it == verdicts.end()) {
+        Watchdog w;
+        std::string why;
+        const bool ok = w.run(
+            options().watchdog,
+            [&](Watchdog::Shared& s) {
+                for (std::size_t i = 0; i < n; ++i) {
+                    s.progress = i;
+                    pass(i);
+                }
+            },
+            why);
+        it = verdicts.emplace(key, ok ? std::string() : why).first;
+    }
+    if (it->second.empty()) return true;
+    st.SkipWithError(it->second.c_str());
+    return false;
+}
+
+// Times f(ray, shape) -> Hit<T> over the first n timed cases of the workload.
+template <class T, class Shape, class F>
+void time_scalar(benchmark::State& st, const std::string& key, const std::string& workload_name, std::size_t n, F f) {
+    const auto& all = timed_cases<T, Shape>(workload_name);
+    n = std::min(n, all.size());
+    if (!passes_watchdog(st, key, n, [&](std::size_t i) { benchmark::DoNotOptimize(f(all[i].ray, all[i].shape)); }))
+        return;
+    std::vector<Hit<T>> out(n);
+    for (auto _ : st) {
+        for (std::size_t i = 0; i < n; ++i) out[i] = f(all[i].ray, all[i].shape);
+        benchmark::DoNotOptimize(out.data());
+        benchmark::ClobberMemory();
+    }
+    std::int64_t hits = 0;
+    for (const auto& h : out) hits += h.verdict == Verdict::hit;
+    st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(n));
+    st.counters["cases"] = double(n);
+    st.counters["hit_rate"] = double(hits) / double(n);
+}
+
+// Registers the kernel's three modes and the plain baselines for one shape and type.
+template <class T, class Shape> void register_scalar_kernel(std::string_view workload_name) {
+    const std::string w(workload_name);
+    auto reg = [&](const char* method, auto f) {
+        const std::string name = bench_name<T, Shape>("scalar", w, method);
+        benchmark::RegisterBenchmark(name.c_str(), [name, w, f](benchmark::State& st) {
+            time_scalar<T, Shape>(st, name, w, options().cases, f);
+        });
+    };
+    reg("fast", [](const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::fast); });
+    reg("conservative", [](const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::conservative); });
+    reg("certified", [](const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::certified); });
+    reg("textbook", [](const Ray<T>& r, const Shape& s) { return baseline::textbook(r, s); });
+    if constexpr (baseline::has_branchless<Shape>)
+        reg("branchless", [](const Ray<T>& r, const Shape& s) { return baseline::branchless(r, s); });
+}
+
+// The batch sweep: sizes 1, 10, ..., batch_max rays against one shape, in each mode.
+template <class T, class Shape> const Batch<T, Shape>& batch_data() {
+    static const Batch<T, Shape> b = batch_workload<T, Shape>(options().batch_max, options().seed);
+    return b;
+}
+template <class T, class Shape, class Mode> void time_batch(benchmark::State& st, std::size_t n) {
+    const Batch<T, Shape>& b = batch_data<T, Shape>();
+    n = std::min(n, b.rays.size());
+    // The check pass runs on the whole batch once (the smaller batches are its prefixes).
+    const std::string key = bench_name<T, Shape>("batch", mode_name(Mode{}), "all");
+    if (!passes_watchdog(st, key, b.rays.size(),
+                         [&](std::size_t i) { benchmark::DoNotOptimize(intersect(b.rays[i], b.shape, Mode{})); }))
+        return;
+    std::vector<Hit<T>> out(n);
+    const std::span<const Ray<T>> rays(b.rays.data(), n);
+    for (auto _ : st) {
+        intersect(rays, b.shape, Mode{}, std::span<Hit<T>>(out));
+        benchmark::DoNotOptimize(out.data());
+        benchmark::ClobberMemory();
+    }
+    st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(n));
+    st.counters["rays"] = double(n);
+}
+template <class T, class Shape> void register_batch() {
+    for (std::size_t n = 1; n <= options().batch_max; n *= 10) {
+        const std::string size = std::to_string(n);
+        benchmark::RegisterBenchmark(bench_name<T, Shape>("batch", "fast", size).c_str(),
+                                     [n](benchmark::State& st) { time_batch<T, Shape, fast_t>(st, n); });
+        benchmark::RegisterBenchmark(bench_name<T, Shape>("batch", "conservative", size).c_str(),
+                                     [n](benchmark::State& st) { time_batch<T, Shape, conservative_t>(st, n); });
+        benchmark::RegisterBenchmark(bench_name<T, Shape>("batch", "certified", size).c_str(),
+                                     [n](benchmark::State& st) { time_batch<T, Shape, certified_t>(st, n); });
+    }
+}
+
+// Every workload of the shape, scalar and batch, in float and double.
+template <template <class> class S> void register_shape() {
+    for (const std::string_view w : kWorkloads) {
+        if (!has_workload<S<float>>(w)) continue;
+        register_scalar_kernel<double, S<double>>(w);
+        register_scalar_kernel<float, S<float>>(w);
+    }
+    register_batch<double, S<double>>();
+    register_batch<float, S<float>>();
+}
+
+// Defined by the per-shape files and the baseline files.
+void register_aabb();
+void register_obb();
+void register_plane();
+void register_sphere();
+void register_cgal();    // cgal_bench.cpp
+void register_embree();  // embree_bench.cpp
+
+}  // namespace rayproof::bench

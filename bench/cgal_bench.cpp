@@ -1,0 +1,43 @@
+// bench/cgal_bench.cpp — CGAL's exact do_intersect (Epeck, plain rationals) timed on the
+// same cases as the kernel (the first `cgal_cases` of each workload); the CGAL code
+// itself is compiled apart (cgal_baselines.cpp), this file includes no CGAL.
+#include "bench_common.hpp"
+#include "cgal_baselines.hpp"
+
+namespace rayproof::bench {
+namespace {
+template <class T> Hit<T> verdict_only(bool hit) {
+    Hit<T> h;
+    h.verdict = hit ? Verdict::hit : Verdict::miss;
+    return h;
+}
+
+template <class T, class Shape> void register_one(std::string_view workload_name) {
+    const std::string w(workload_name);
+    const std::string epeck = bench_name<T, Shape>("scalar", w, "cgal_epeck");
+    benchmark::RegisterBenchmark(epeck.c_str(), [epeck, w](benchmark::State& st) {
+        time_scalar<T, Shape>(st, epeck, w, options().cgal_cases,
+                              [](const Ray<T>& r, const Shape& s) { return verdict_only<T>(cgal::epeck(r, s)); });
+    });
+    const std::string rational = bench_name<T, Shape>("scalar", w, "cgal_rational");
+    benchmark::RegisterBenchmark(rational.c_str(), [rational, w](benchmark::State& st) {
+        time_scalar<T, Shape>(st, rational, w, options().cgal_cases,
+                              [](const Ray<T>& r, const Shape& s) { return verdict_only<T>(cgal::rational(r, s)); });
+    });
+}
+
+template <template <class> class S> void register_shape_cgal() {
+    for (const std::string_view w : kWorkloads) {
+        if (!has_workload<S<float>>(w)) continue;
+        register_one<double, S<double>>(w);
+        register_one<float, S<float>>(w);
+    }
+}
+}  // namespace
+
+void register_cgal() {
+    register_shape_cgal<Aabb>();
+    register_shape_cgal<Plane>();
+    register_shape_cgal<Sphere>();
+}
+}  // namespace rayproof::bench

@@ -1,0 +1,303 @@
+// bench/trade_accuracy.cpp — the accuracy half of the trade: every method of
+// rayproof_bench answers the same workload cases (same generators, same seed, the timed
+// cases being the first of them), and the oracle's judge scores each answer against the
+// exact one.
+//
+//   rayproof_trade_accuracy [--cases N] [--cgal-cases N] [--seed S] [--shape aabb,obb,...]
+//                           [--methods fast,certified,...] [--timeout SECONDS]
+//                           [--show-method METHOD --show N]   (the wrong cases, on stderr)
+//
+// Prints one CSV row per (shape, type, workload, method):
+//   cases            cases judged (the CGAL baselines: the first --cgal-cases of them)
+//   wrong            wrong verdicts: false hits + false misses + invalid mismatches
+//   false_hit, false_miss, invalid_mismatch
+//   face_mismatch    both hit, different entry face (methods that report a face)
+//   t_judged         both hit and t comparable (see below)
+//   t_off            of those, t_enter or t_exit not a faithful rounding of the exact value
+//   max_ulps         the largest distance, in representable values, from a faithful
+//                    rounding ("inf" for NaN)
+//   not_enclosing    of t_judged, [t_enter, t_exit] does not contain the exact interval
+//   exact_hits       cases whose exact verdict is hit
+//   refused          valid cases the method declines to answer (Embree: rays beyond its
+//                    coordinate limit); not counted as wrong, not judged further
+//   status           ok; or "timeout at case I" / "signal S at case I" when the method
+//                    hung or crashed on a case (each method runs in a child process with
+//                    a deadline, --timeout seconds, so that one bad case cannot stop the run)
+// CGAL answers only a verdict (no t, no face). Embree answers the first surface crossing:
+// its t_enter is judged where the ray starts outside the ball (t_min >= 0 and the exact
+// entry after t_min), its t_exit never.
+#include "baselines.hpp"
+#include "watchdog.hpp"
+#include "workloads.hpp"
+
+#ifdef RAYPROOF_BENCH_HAVE_CGAL
+#include "cgal_baselines.hpp"
+#endif
+#ifdef RAYPROOF_BENCH_HAVE_EMBREE
+#include "embree_sphere.hpp"
+#endif
+
+#include <rayproof/oracle/oracle.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <functional>
+#include <iostream>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace rayproof::bench {
+namespace {
+
+using oracle::Exact;
+
+struct Options {
+    std::size_t cases = 1 << 17;
+    std::size_t cgal_cases = 1 << 14;
+    std::uint64_t seed = kDefaultSeed;
+    std::string shapes = "aabb,obb,plane,sphere";
+    std::string methods;      // only these methods (empty: all)
+    double timeout = 120;     // seconds per (shape, type, workload, method)
+    std::string show_method;  // print the cases this method gets wrong (stderr)
+    std::size_t show = 0;     // at most this many per (shape, type, workload)
+} opts;
+
+struct Tally {
+    std::size_t cases = 0, wrong = 0, false_hit = 0, false_miss = 0, invalid_mismatch = 0, face_mismatch = 0,
+                t_judged = 0, t_off = 0, not_enclosing = 0, exact_hits = 0, refused = 0;
+    std::uint64_t max_ulps = 0;
+    bool faces = true, times = true;
+};
+
+enum Judge : unsigned { verdict_only = 0, face = 1, t_both = 2, t_enter_outside = 4, may_refuse = 8 };
+
+template <class T> void tally(Tally& t, const Ray<T>& r, const Hit<T>& h, const Exact<T>& ex, unsigned what) {
+    ++t.cases;
+    t.exact_hits += ex.verdict == Verdict::hit;
+    if ((what & may_refuse) && h.verdict == Verdict::invalid && ex.verdict != Verdict::invalid) {
+        ++t.refused;
+        return;
+    }
+    const oracle::Judgement j = oracle::judge(h, ex, (what & face) != 0);
+    switch (j.outcome) {
+        case oracle::Outcome::false_hit: ++t.false_hit; break;
+        case oracle::Outcome::false_miss: ++t.false_miss; break;
+        case oracle::Outcome::invalid_mismatch: ++t.invalid_mismatch; break;
+        case oracle::Outcome::face_mismatch: ++t.face_mismatch; break;
+        case oracle::Outcome::agree: break;
+    }
+    t.wrong += j.verdict_wrong();
+    if (h.verdict != Verdict::hit || ex.verdict != Verdict::hit) return;
+    std::uint64_t ulps = 0;
+    if (what & t_both) {
+        ulps = j.max_ulps();
+        t.not_enclosing += !j.encloses;
+    } else if (what & t_enter_outside) {
+        if (!(r.t_min >= 0 && ex.enter_vs(r.t_min) == oracle::Order::below)) return;
+        ulps = j.enter_ulps;
+    } else {
+        return;
+    }
+    ++t.t_judged;
+    t.t_off += ulps != 0;
+    t.max_ulps = std::max(t.max_ulps, ulps);
+}
+
+void print_header() {
+    std::printf(
+        "shape,type,workload,method,cases,wrong,false_hit,false_miss,invalid_mismatch,face_mismatch,t_judged,t_off,"
+        "max_ulps,not_enclosing,exact_hits,refused,status\n");
+}
+
+template <class T, class Shape> void print_row(std::string_view w, const char* method, const Tally& t) {
+    char ulps[32];
+    if (!t.times || t.t_judged == 0)
+        std::snprintf(ulps, sizeof ulps, "n/a");
+    else if (t.max_ulps == std::numeric_limits<std::uint64_t>::max())
+        std::snprintf(ulps, sizeof ulps, "inf");
+    else
+        std::snprintf(ulps, sizeof ulps, "%llu", static_cast<unsigned long long>(t.max_ulps));
+    const std::string face = t.faces ? std::to_string(t.face_mismatch) : "n/a";
+    const std::string t_judged = t.times ? std::to_string(t.t_judged) : "n/a";
+    const std::string t_off = t.times ? std::to_string(t.t_off) : "n/a";
+    const std::string encl = t.times ? std::to_string(t.not_enclosing) : "n/a";
+    std::printf("%s,%s,%.*s,%s,%zu,%zu,%zu,%zu,%zu,%s,%s,%s,%s,%s,%zu,%zu,ok\n", std::string(gen::shape_name<Shape>()).c_str(),
+                std::string(gen::scalar_name<T>()).c_str(), int(w.size()), w.data(), method, t.cases, t.wrong,
+                t.false_hit, t.false_miss, t.invalid_mismatch, face.c_str(), t_judged.c_str(), t_off.c_str(), ulps,
+                encl.c_str(), t.exact_hits, t.refused);
+    std::fflush(stdout);
+}
+
+template <class T, class Shape> void print_failure(std::string_view w, const char* method, const std::string& status) {
+    std::printf("%s,%s,%.*s,%s,,,,,,,,,,,,,%s\n", std::string(gen::shape_name<Shape>()).c_str(),
+                std::string(gen::scalar_name<T>()).c_str(), int(w.size()), w.data(), method, status.c_str());
+    std::fflush(stdout);
+}
+
+bool method_wanted(const char* method) {
+    if (opts.methods.empty()) return true;
+    return ("," + opts.methods + ",").find("," + std::string(method) + ",") != std::string::npos;
+}
+
+// Runs f on the first n cases and prints the judged row. The loop runs in a child
+// process (the cases and the exact answers are shared copy-on-write) with a deadline:
+// a method that hangs or crashes on some case gets a status row naming the case, and
+// the run goes on with the next method.
+template <class T, class Shape, class F>
+void judge_method(std::string_view w, const char* method, const std::vector<Case<T, Shape>>& cases,
+                  const std::vector<Exact<T>>& exact, std::size_t n, unsigned what, F f) {
+    if (!method_wanted(method)) return;
+    n = std::min(n, cases.size());
+    Watchdog dog;
+    std::string why;
+    const bool ok = dog.run(
+        opts.timeout,
+        [&](Watchdog::Shared& s) {
+            Tally t;
+            t.faces = (what & face) != 0;
+            t.times = (what & (t_both | t_enter_outside)) != 0;
+            const bool show = opts.show > 0 && opts.show_method == method;
+            std::size_t shown = 0;
+            for (std::size_t i = 0; i < n; ++i) {
+                s.progress = i;
+                const Hit<T> h = f(i, cases[i].ray, cases[i].shape);
+                const Tally before = t;
+                tally(t, cases[i].ray, h, exact[i], what);
+                const bool bad =
+                    t.wrong != before.wrong || t.face_mismatch != before.face_mismatch || t.t_off != before.t_off;
+                if (show && bad && shown < opts.show) {
+                    ++shown;
+                    std::cerr << w << " case " << i << ": " << cases[i] << "\n  answer " << h.verdict << " ["
+                              << std::hexfloat << h.t_enter << ", " << h.t_exit << std::defaultfloat << "] face "
+                              << h.face << "\n  exact  " << exact[i] << '\n';
+                }
+            }
+            print_row<T, Shape>(w, method, t);
+        },
+        why);
+    if (!ok) print_failure<T, Shape>(w, method, why);
+}
+
+template <class T> Hit<T> verdict_hit(bool hit) {
+    Hit<T> h;
+    h.verdict = hit ? Verdict::hit : Verdict::miss;
+    return h;
+}
+
+template <class T, class Shape> void run_workload(std::string_view w) {
+    const auto cases = workload<T, Shape>(w, opts.cases, opts.seed);
+    std::vector<Exact<T>> exact;
+    exact.reserve(cases.size());
+    for (const auto& c : cases) exact.push_back(oracle::exact(c.ray, c.shape));
+    const std::size_t n = cases.size();
+    const unsigned all = face | t_both;
+    judge_method(w, "fast", cases, exact, n, all,
+                 [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::fast); });
+    judge_method(w, "conservative", cases, exact, n, all,
+                 [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::conservative); });
+    judge_method(w, "certified", cases, exact, n, all,
+                 [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::certified); });
+    judge_method(w, "textbook", cases, exact, n, all,
+                 [](std::size_t, const Ray<T>& r, const Shape& s) { return baseline::textbook(r, s); });
+    if constexpr (baseline::has_branchless<Shape>)
+        judge_method(w, "branchless", cases, exact, n, t_both,
+                     [](std::size_t, const Ray<T>& r, const Shape& s) { return baseline::branchless(r, s); });
+#ifdef RAYPROOF_BENCH_HAVE_CGAL
+    if constexpr (cgal::supported<Shape>) {
+        judge_method(w, "cgal_epeck", cases, exact, opts.cgal_cases, verdict_only,
+                     [](std::size_t, const Ray<T>& r, const Shape& s) { return verdict_hit<T>(cgal::epeck(r, s)); });
+        judge_method(w, "cgal_rational", cases, exact, opts.cgal_cases, verdict_only,
+                     [](std::size_t, const Ray<T>& r, const Shape& s) { return verdict_hit<T>(cgal::rational(r, s)); });
+    }
+#endif
+#ifdef RAYPROOF_BENCH_HAVE_EMBREE
+    if constexpr (std::is_same_v<Shape, Sphere<float>>) {
+        for (const bool robust : {false, true}) {
+            // The scenes are built in the child, a chunk at a time (memory stays small).
+            constexpr std::size_t chunk = 4096;
+            std::shared_ptr<EmbreeSpheres> scenes;
+            judge_method(w, robust ? "embree_robust" : "embree", cases, exact, n, t_enter_outside | may_refuse,
+                         [&, scenes, robust](std::size_t i, const Ray<T>& r, const Shape&) mutable {
+                             if (i % chunk == 0) {
+                                 const std::size_t m = std::min(chunk, cases.size() - i);
+                                 std::vector<Sphere<float>> spheres(m);
+                                 for (std::size_t k = 0; k < m; ++k) spheres[k] = cases[i + k].shape;
+                                 scenes.reset();
+                                 scenes = std::make_shared<EmbreeSpheres>(spheres, robust);
+                             }
+                             return scenes->intersect(i % chunk, r);
+                         });
+        }
+    }
+#endif
+}
+
+template <template <class> class S> void run_shape() {
+    for (const std::string_view w : kWorkloads) {
+        if (!has_workload<S<float>>(w)) continue;
+        run_workload<double, S<double>>(w);
+        run_workload<float, S<float>>(w);
+    }
+}
+
+bool wanted(const char* shape) {
+    const std::string list = "," + opts.shapes + ",";
+    return list.find("," + std::string(shape) + ",") != std::string::npos;
+}
+
+int usage(const char* argv0) {
+    std::fprintf(stderr, "usage: %s [--cases N] [--cgal-cases N] [--seed S] [--shape aabb,obb,plane,sphere]\n"
+                 "       [--methods fast,certified,...] [--timeout SECONDS per method and workload]\n"
+                 "       [--show-method METHOD --show N]  print up to N cases per workload that METHOD gets wrong\n",
+                 argv0);
+    return 2;
+}
+
+}  // namespace
+}  // namespace rayproof::bench
+
+int main(int argc, char** argv) {
+    using namespace rayproof;
+    using namespace rayproof::bench;
+    for (int i = 1; i < argc; i += 2) {
+        const char* a = argv[i];
+        const char* v = i + 1 < argc ? argv[i + 1] : nullptr;
+        if (!std::strcmp(a, "-h") || !std::strcmp(a, "--help")) {
+            usage(argv[0]);
+            return 0;
+        }
+        if (!v) return usage(argv[0]);
+        if (!std::strcmp(a, "--cases"))
+            opts.cases = std::strtoull(v, nullptr, 10);
+        else if (!std::strcmp(a, "--cgal-cases"))
+            opts.cgal_cases = std::strtoull(v, nullptr, 10);
+        else if (!std::strcmp(a, "--seed"))
+            opts.seed = std::strtoull(v, nullptr, 0);
+        else if (!std::strcmp(a, "--shape"))
+            opts.shapes = v;
+        else if (!std::strcmp(a, "--methods"))
+            opts.methods = v;
+        else if (!std::strcmp(a, "--timeout"))
+            opts.timeout = std::strtod(v, nullptr);
+        else if (!std::strcmp(a, "--show-method"))
+            opts.show_method = v;
+        else if (!std::strcmp(a, "--show"))
+            opts.show = std::strtoull(v, nullptr, 10);
+        else
+            return usage(argv[0]);
+    }
+    if (opts.cases == 0) return usage(argv[0]);
+    opts.cgal_cases = std::min(opts.cgal_cases, opts.cases);
+    print_header();
+    if (wanted("aabb")) run_shape<Aabb>();
+    if (wanted("obb")) run_shape<Obb>();
+    if (wanted("plane")) run_shape<Plane>();
+    if (wanted("sphere")) run_shape<Sphere>();
+    return 0;
+}
