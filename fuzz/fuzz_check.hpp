@@ -1,0 +1,158 @@
+// fuzz_check.hpp — what the ray/shape fuzz targets check on every decoded case: each of
+// the three modes against the exact oracle, per the contract, plus batch == scalar.
+//
+//   every mode      invalid exactly when the oracle says invalid (never invalid_mismatch);
+//                   a hit never carries NaN in t_enter or t_exit
+//   certified       judge(hit, exact).exact_match(): verdict and face exact, each t a
+//                   faithful rounding of the exact value
+//   conservative    never false_miss; a hit's [t_enter, t_exit] encloses the exact interval
+//   certified and   a hit has t_min <= t_enter <= t_exit <= t_max; face in [-1, 5] for
+//   conservative    boxes, -1 for planes and spheres
+//   batch           the batch form answers the ray and its reverse exactly as the scalar
+//                   form does, in every mode (bit for bit)
+// `fast` promises no accuracy: it is held only to the first line (and to the sanitizers).
+// A violation prints the case in hexadecimal floating point, the answer, the oracle's
+// exact answer and the judgement, then aborts.
+#pragma once
+
+#include "fuzz_common.hpp"
+#include "fuzz_decode.hpp"
+
+#include <rayproof/io.hpp>
+#include <rayproof/oracle/oracle.hpp>
+#include <rayproof/rayproof.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <span>
+#include <string>
+
+namespace rayproof::fuzz {
+
+template <class T, class Shape> constexpr bool is_box = std::is_same_v<Shape, Aabb<T>> || std::is_same_v<Shape, Obb<T>>;
+
+template <class T, class Shape> const char* shape_label() {
+    if constexpr (std::is_same_v<Shape, Aabb<T>>) return "Aabb";
+    else if constexpr (std::is_same_v<Shape, Obb<T>>) return "Obb";
+    else if constexpr (std::is_same_v<Shape, Plane<T>>) return "Plane";
+    else return "Sphere";
+}
+template <class T, class Shape> std::string describe(const char* what, const char* mode) {
+    return std::string(what) + " (mode " + mode + ", " + (std::is_same_v<T, float> ? "float" : "double") + ", " +
+           shape_label<T, Shape>() + ")";
+}
+
+template <class T, class Shape>
+[[noreturn]] void violation(const char* what, const char* mode, const Ray<T>& ray, const Shape& shape, const Hit<T>& hit,
+                            const oracle::Exact<T>& ex, const oracle::Judgement* j) {
+    const std::string d = describe<T, Shape>(what, mode);
+    filter(d);
+    std::cerr << "\n==== rayproof fuzz: contract violation: " << d << '\n';
+    if (!current_input().empty()) std::cerr << "input:    " << current_input() << '\n';
+    std::cerr << "ray:      " << ray << "\nshape:    " << shape << "\nanswer:   " << hit << "\nexact:    " << ex << '\n';
+    if (j) std::cerr << "judge:    " << *j << '\n';
+    std::cerr.flush();
+    std::abort();
+}
+
+inline bool same_bits(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
+inline bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
+template <class T> bool same_answer(const Hit<T>& a, const Hit<T>& b) {
+    if (a.verdict != b.verdict) return false;
+    if (a.verdict != Verdict::hit) return true;
+    return same_bits(a.t_enter, b.t_enter) && same_bits(a.t_exit, b.t_exit) && a.face == b.face;
+}
+
+template <class T, class Shape, class Mode>
+void check_mode(const Ray<T>& ray, const Shape& shape, const oracle::Exact<T>& ex, Mode mode) {
+    const char* name = mode_name(mode);
+    const Hit<T> hit = intersect(ray, shape, mode);
+    if (hit.verdict != Verdict::miss && hit.verdict != Verdict::hit && hit.verdict != Verdict::invalid)
+        violation("verdict out of range", name, ray, shape, hit, ex, nullptr);
+    if (hit.verdict == Verdict::hit && (std::isnan(hit.t_enter) || std::isnan(hit.t_exit)))
+        violation("NaN in a hit", name, ray, shape, hit, ex, nullptr);
+
+    constexpr bool is_fast = std::is_same_v<Mode, fast_t>;
+    constexpr bool is_certified = std::is_same_v<Mode, certified_t>;
+    const oracle::Judgement j = oracle::judge(hit, ex, /*compare_face=*/is_certified);
+    if (j.outcome == oracle::Outcome::invalid_mismatch)
+        violation(ex.verdict == Verdict::invalid ? "invalid input not reported" : "valid input reported invalid", name, ray,
+                  shape, hit, ex, &j);
+    if constexpr (is_fast) return;
+
+    if constexpr (is_certified) {
+        if (!j.exact_match()) violation("certified answer not exact", name, ray, shape, hit, ex, &j);
+    } else {
+        if (j.outcome == oracle::Outcome::false_miss) violation("conservative missed an exact hit", name, ray, shape, hit, ex, &j);
+        if (!j.encloses) violation("conservative interval does not enclose the exact one", name, ray, shape, hit, ex, &j);
+    }
+    if (hit.verdict == Verdict::hit) {
+        if (!(ray.t_min <= hit.t_enter && hit.t_enter <= hit.t_exit && hit.t_exit <= ray.t_max))
+            violation("hit interval not ordered within [t_min, t_max]", name, ray, shape, hit, ex, &j);
+        if constexpr (is_box<T, Shape>) {
+            if (hit.face < -1 || hit.face > 5) violation("face out of range", name, ray, shape, hit, ex, &j);
+        } else {
+            if (hit.face != -1) violation("face must be -1 for this shape", name, ray, shape, hit, ex, &j);
+        }
+    }
+}
+
+template <class T, class Shape, class Mode> void check_batch(const Ray<T>& ray, const Shape& shape, Mode mode) {
+    const std::array<Ray<T>, 2> rays = {ray, reversed(ray)};
+    std::array<Hit<T>, 2> out;
+    intersect(std::span<const Ray<T>>(rays), shape, mode, std::span<Hit<T>>(out));
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Hit<T> scalar = intersect(rays[i], shape, mode);
+        if (!same_answer(out[i], scalar)) {
+            const std::string d = describe<T, Shape>("batch answer differs from scalar", mode_name(mode));
+            filter(d);
+            std::cerr << "\n==== rayproof fuzz: contract violation: " << d << '\n';
+            if (!current_input().empty()) std::cerr << "input:    " << current_input() << '\n';
+            std::cerr << "ray:      " << rays[i] << "\nshape:    " << shape << "\nbatch:    " << out[i]
+                      << "\nscalar:   " << scalar << '\n';
+            std::abort();
+        }
+    }
+}
+
+// RAYPROOF_FUZZ_PRINT set: every decoded case is printed before it is checked (to see
+// the case of a hang or of a sanitizer report).
+inline bool print_cases() {
+    static const bool on = [] {
+        const char* v = std::getenv("RAYPROOF_FUZZ_PRINT");
+        return v && *v;
+    }();
+    return on;
+}
+
+template <class T, class Shape> void check_case(const Ray<T>& ray, const Shape& shape) {
+    if (print_cases()) std::cerr << "case (" << (std::is_same_v<T, float> ? "float" : "double") << "): " << ray << ' ' << shape << std::endl;
+    const oracle::Exact<T> ex = oracle::exact(ray, shape);
+    check_mode(ray, shape, ex, certified);
+    check_mode(ray, shape, ex, conservative);
+    check_mode(ray, shape, ex, fast);
+    check_batch(ray, shape, certified);
+    check_batch(ray, shape, conservative);
+    check_batch(ray, shape, fast);
+}
+
+// The body of a shape target: the header picks float or double.
+template <template <class> class Shape> int run_shape_target(const std::uint8_t* data, std::size_t size) {
+    try {
+        if (is_double(data, size)) {
+            const auto in = decode<double, Shape<double>>(data, size);
+            check_case(in.ray, in.shape);
+        } else {
+            const auto in = decode<float, Shape<float>>(data, size);
+            check_case(in.ray, in.shape);
+        }
+    } catch (const Filtered&) {
+    }
+    return 0;
+}
+
+}  // namespace rayproof::fuzz

@@ -1,0 +1,337 @@
+// fuzz_decode.hpp — the byte format of the ray/shape fuzz targets: fuzzer input bytes to a
+// ray and a shape (Decoder), and a case back to bytes (encode, for the seed corpora).
+//
+// The decoder reads the input with FuzzedDataProvider (which takes integers from the END
+// of the buffer) and is biased toward the values that break geometry code. Layout:
+//
+//   header byte   bit 0: scalar (0 float, 1 double)
+//                 bits 1-2: t range: 0 [0, +inf)  1 (-inf, +inf)  2 [decoded, +inf)
+//                           3 [decoded, decoded]
+//                 bits 3-4: Obb axes: 0, 1 decoded one by one  2 integer rotation (exactly
+//                           orthogonal, non-normalized)  3 signed permutation, scaled
+//   fields        the shape's numbers, then origin, direction, t_min, t_max (those the
+//                 t-range style decodes); each is one selector byte s, class s & 7 with
+//                 parameter n = s >> 3 (0..31), then the bytes that class needs:
+//                   0 small integer      n zig-zag decoded: 0, -1, 1, -2, ... -16, 15
+//                   1 integer            a 16-bit two's complement integer
+//                   2 special value      special_value<T>(n): ±0, denormals, the smallest
+//                                        normal, the largest finite, 1 and its neighbours,
+//                                        ±inf, NaN, ... (see the table)
+//                   3 copy               a previous field (index byte), negated if n & 1,
+//                                        moved by kCopySteps[n >> 1] ulps: the origin on a
+//                                        slab plane, a radius equal to a coordinate, the
+//                                        one-ulp neighbours of either
+//                   4 raw bits           every bit pattern of T (NaN and inf included)
+//                   5 dyadic             16-bit integer times 2^e, e over the whole
+//                                        exponent range (rounded at under/overflow)
+//                   6 derived            op n & 7 on two previous fields: a+b, a-b, a·b,
+//                                        a/b, -a, (a+b)/2, the neighbour of a toward b, |a|
+//                                        (a corner minus the origin aims at the corner)
+//                   7 fraction           (8-bit int)/(8-bit int) times 2^(n-16): rounded,
+//                                        inexact values (1/3, -5/7, ...)
+//   patches       while bytes remain (at most 64 times): a field index byte, then one
+//                 field as above that overwrites it (copies may then read any field, so
+//                 any field can be equated to any other, in either direction)
+//
+// An empty input decodes to all zeros (an invalid, zero-direction ray). The format is
+// fixed: the committed corpora and regressions depend on it; a change must re-encode them.
+#pragma once
+
+#include <fuzzer/FuzzedDataProvider.h>  // clang's; copied into the build tree for g++ (targets.cmake)
+
+#include <rayproof/types.hpp>
+
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <type_traits>
+#include <vector>
+
+namespace rayproof::fuzz {
+
+template <class T> using Bits = std::conditional_t<std::is_same_v<T, float>, std::uint32_t, std::uint64_t>;
+
+enum class ShapeKind { aabb, obb, plane, sphere };
+
+template <class T, class Shape> struct Input {
+    Ray<T> ray;
+    Shape shape;
+};
+
+// Header bits.
+inline constexpr unsigned kDoubleBit = 1u;
+inline constexpr unsigned kTRangeShift = 1u;
+inline constexpr unsigned kAxesShift = 3u;
+
+// Field classes.
+enum Class : unsigned { small_int = 0, int16 = 1, special = 2, copy = 3, raw = 4, dyadic = 5, derived = 6, fraction = 7 };
+
+// Ulp moves of the copy class (parameter n >> 1): mostly the value itself or a neighbour.
+inline constexpr int kCopySteps[16] = {0, 0, 0, 0, 1, -1, 1, -1, 2, -2, 3, -3, 16, -16, 1024, -1024};
+
+template <class T> T next_up(T x) { return std::nextafter(x, std::numeric_limits<T>::infinity()); }
+template <class T> T next_down(T x) { return std::nextafter(x, -std::numeric_limits<T>::infinity()); }
+template <class T> T nudged(T x, int steps) {
+    if (std::isnan(x)) return x;
+    for (; steps > 0; --steps) x = next_up(x);
+    for (; steps < 0; ++steps) x = next_down(x);
+    return x;
+}
+
+// The 32 special values of class 2.
+template <class T> const std::array<T, 32>& special_values() {
+    using L = std::numeric_limits<T>;
+    constexpr int p = L::digits;
+    static const std::array<T, 32> v = {
+        T(0),                          -T(0),
+        L::denorm_min(),               -L::denorm_min(),
+        next_down(L::min()),           -next_down(L::min()),  // the largest denormal
+        L::min(),                      -L::min(),
+        L::max(),                      -L::max(),
+        T(1),                          T(-1),
+        next_up(T(1)),                 next_down(T(1)),
+        L::epsilon(),                  T(0.5),
+        T(2),                          L::infinity(),
+        -L::infinity(),                L::quiet_NaN(),
+        std::ldexp(T(1), L::max_exponent / 2),  // squares near the overflow threshold
+        -std::ldexp(T(1), L::max_exponent / 2),
+        std::ldexp(T(1), L::min_exponent / 2),  // squares near the underflow threshold
+        -std::ldexp(T(1), L::min_exponent / 2),
+        next_down(L::max()),           T(3),
+        T(1) / T(3),                   T(-0.5),
+        std::ldexp(T(1), -p),          // half an ulp of 1
+        std::ldexp(T(1), p),           // the first integer whose ulp is 2
+        next_up(std::ldexp(T(1), p)),  L::denorm_min() * T(3),
+    };
+    return v;
+}
+
+template <class T> T from_bits(Bits<T> b) { return std::bit_cast<T>(b); }
+template <class T> Bits<T> to_bits(T x) { return std::bit_cast<Bits<T>>(x); }
+
+// Exponent range of the dyadic class: enough to reach below the smallest denormal and
+// beyond the largest finite value with a 16-bit mantissa.
+template <class T> inline constexpr int kDyadicMinExp = std::numeric_limits<T>::min_exponent - std::numeric_limits<T>::digits - 20;
+template <class T> inline constexpr int kDyadicMaxExp = std::numeric_limits<T>::max_exponent + 2;
+
+// Number of numeric fields of each shape.
+template <class Shape> inline constexpr int kShapeFields = 0;
+template <class T> inline constexpr int kShapeFields<Aabb<T>> = 6;
+template <class T> inline constexpr int kShapeFields<Obb<T>> = 15;
+template <class T> inline constexpr int kShapeFields<Plane<T>> = 4;
+template <class T> inline constexpr int kShapeFields<Sphere<T>> = 4;
+inline constexpr int kRayFields = 8;
+inline constexpr int kMaxPatches = 64;
+
+// The fields of an input, in decoding order: the shape's numbers, then origin, direction,
+// t_min, t_max.
+template <class T, class Shape> std::array<T*, kShapeFields<Shape> + kRayFields> fields(Input<T, Shape>& in) {
+    std::array<T*, kShapeFields<Shape> + kRayFields> f{};
+    int k = 0;
+    auto add3 = [&](Vec3<T>& v) {
+        for (int i = 0; i < 3; ++i) f[k++] = &v[i];
+    };
+    if constexpr (std::is_same_v<Shape, Aabb<T>>) {
+        add3(in.shape.lo);
+        add3(in.shape.hi);
+    } else if constexpr (std::is_same_v<Shape, Obb<T>>) {
+        add3(in.shape.center);
+        for (int i = 0; i < 9; ++i) f[k++] = in.shape.axes.data() + i;  // column-major: column by column
+        add3(in.shape.half_extent);
+    } else if constexpr (std::is_same_v<Shape, Plane<T>>) {
+        add3(in.shape.normal);
+        f[k++] = &in.shape.offset;
+    } else {
+        add3(in.shape.center);
+        f[k++] = &in.shape.radius;
+    }
+    add3(in.ray.origin);
+    add3(in.ray.direction);
+    f[k++] = &in.ray.t_min;
+    f[k++] = &in.ray.t_max;
+    return f;
+}
+
+// Reads the header byte: true when the input is a double case.
+inline bool is_double(const std::uint8_t* data, std::size_t size) {
+    FuzzedDataProvider p(data, size);
+    return p.ConsumeIntegral<std::uint8_t>() & kDoubleBit;
+}
+
+template <class T, class Shape> class Decoder {
+public:
+    static constexpr int kFields = kShapeFields<Shape> + kRayFields;
+    static constexpr int kTMinField = kFields - 2;
+    static constexpr int kTMaxField = kFields - 1;
+    static constexpr int kAxesFirst = 3, kAxesLast = 11;  // Obb: the 9 axes fields
+
+    Decoder(const std::uint8_t* data, std::size_t size) : p_(data, size) {}
+
+    Input<T, Shape> decode() {
+        Input<T, Shape> in{};
+        auto f = fields(in);
+        const unsigned header = p_.ConsumeIntegral<std::uint8_t>();
+        const unsigned t_style = (header >> kTRangeShift) & 3u;
+        const unsigned axes_style = (header >> kAxesShift) & 3u;
+        constexpr T inf = std::numeric_limits<T>::infinity();
+        for (int k = 0; k < kFields; ++k) {
+            if (k == kTMinField && t_style <= 1) {
+                *f[k] = t_style == 0 ? T(0) : -inf;
+            } else if (k == kTMaxField && t_style <= 2) {
+                *f[k] = inf;
+            } else if (std::is_same_v<Shape, Obb<T>> && k == kAxesFirst && axes_style >= 2) {
+                constructed_axes(f, axes_style);
+                k = kAxesLast;
+            } else {
+                *f[k] = value(f, k);
+            }
+            done_ = k + 1;
+        }
+        for (int i = 0; i < kMaxPatches && p_.remaining_bytes() > 0; ++i) {
+            const int dst = int(p_.ConsumeIntegral<std::uint8_t>() % unsigned(kFields));
+            *f[dst] = value(f, kFields);
+        }
+        return in;
+    }
+
+private:
+    using Fields = std::array<T*, kFields>;
+
+    // One field; the fields [0, avail) may be copied.
+    T value(const Fields& f, int avail) {
+        const unsigned s = p_.ConsumeIntegral<std::uint8_t>();
+        const unsigned n = s >> 3;
+        switch (s & 7u) {
+            case small_int: return T((n & 1u) ? -int(n + 1) / 2 : int(n / 2));
+            case int16: return T(std::int16_t(p_.ConsumeIntegral<std::uint16_t>()));
+            case special: return special_values<T>()[n];
+            case copy: {
+                const T src = pick(f, avail);
+                const T v = nudged(src, kCopySteps[n >> 1]);
+                return (n & 1u) ? -v : v;
+            }
+            case raw: return from_bits<T>(p_.ConsumeIntegral<Bits<T>>());
+            case dyadic: {
+                const T m = T(std::int16_t(p_.ConsumeIntegral<std::uint16_t>()));
+                const int e = kDyadicMinExp<T> + int(p_.ConsumeIntegral<std::uint16_t>() %
+                                                     unsigned(kDyadicMaxExp<T> - kDyadicMinExp<T> + 1));
+                return scale(m, e);
+            }
+            case derived: {
+                const T a = pick(f, avail), b = pick(f, avail);
+                switch (n & 7u) {
+                    case 0: return a + b;
+                    case 1: return a - b;
+                    case 2: return a * b;
+                    case 3: return a / b;  // IEEE: ±inf or NaN for b == 0 (an invalid input)
+                    case 4: return -a;
+                    case 5: return (a + b) / 2;
+                    case 6: return std::nextafter(a, b);
+                    default: return std::fabs(a);
+                }
+            }
+            default: {  // fraction
+                const T a = T(std::int8_t(p_.ConsumeIntegral<std::uint8_t>()));
+                const int b = std::int8_t(p_.ConsumeIntegral<std::uint8_t>());
+                return scale(a / T(b == 0 ? 1 : b), int(n) - 16);
+            }
+        }
+    }
+
+    // A previous field (0 when there is none).
+    T pick(const Fields& f, int avail) {
+        const unsigned i = p_.ConsumeIntegral<std::uint8_t>();
+        const int limit = avail < done_ ? avail : done_;
+        return limit > 0 ? *f[i % unsigned(limit)] : T(0);
+    }
+
+    // x·2^e in steps that each stay exact until the final rounding (std::ldexp).
+    static T scale(T x, int e) { return std::ldexp(x, e); }
+
+    // Obb axes built exactly: an integer rotation or a scaled signed permutation.
+    void constructed_axes(const Fields& f, unsigned style) {
+        Mat3<T> a = Mat3<T>::Zero();
+        if (style == 2) {
+            // The rotation matrix of the integer quaternion (w, x, y, z), times its squared
+            // norm: integer entries below 2^17, exactly orthogonal columns of equal norm;
+            // each column then scaled by 2^k (exact unless it under- or overflows).
+            std::int64_t q[4];
+            for (auto& c : q) c = std::int8_t(p_.ConsumeIntegral<std::uint8_t>()) / 8;  // [-16, 15]
+            const std::int64_t w = q[0], x = q[1], y = q[2], z = q[3];
+            const std::int64_t m[3][3] = {
+                {w * w + x * x - y * y - z * z, 2 * (x * y - w * z), 2 * (x * z + w * y)},
+                {2 * (x * y + w * z), w * w - x * x + y * y - z * z, 2 * (y * z - w * x)},
+                {2 * (x * z - w * y), 2 * (y * z + w * x), w * w - x * x - y * y + z * z},
+            };
+            for (int c = 0; c < 3; ++c) {
+                const int k = int(std::int8_t(p_.ConsumeIntegral<std::uint8_t>()));
+                for (int r = 0; r < 3; ++r) a(r, c) = scale(T(m[r][c]), k);
+            }
+        } else {
+            // Column c is s_c times the unit vector of axis perm[c].
+            static constexpr int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+            const unsigned pi = p_.ConsumeIntegral<std::uint8_t>() % 6u;
+            for (int c = 0; c < 3; ++c) a(perms[pi][c], c) = value(f, kAxesFirst);
+        }
+        for (int i = 0; i < 9; ++i) *f[kAxesFirst + i] = a.data()[i];
+    }
+
+    FuzzedDataProvider p_;
+    int done_ = 0;  // fields decoded so far (copies read only those during the first pass)
+};
+
+template <class T, class Shape> Input<T, Shape> decode(const std::uint8_t* data, std::size_t size) {
+    return Decoder<T, Shape>(data, size).decode();
+}
+
+// ---------------------------------------------------------------------------------------
+// Encoding (the seed corpora): a case back to bytes that decode to it bit for bit.
+// FuzzedDataProvider reads integers from the end of the buffer, most significant byte
+// first; the encoder records the integers in reading order and lays them out reversed.
+
+class Encoder {
+public:
+    template <class U> void put(U v) {
+        for (int i = int(sizeof(U)) - 1; i >= 0; --i) order_.push_back(std::uint8_t(std::uint64_t(v) >> (8 * i)));
+    }
+    std::vector<std::uint8_t> bytes() const { return {order_.rbegin(), order_.rend()}; }
+
+private:
+    std::vector<std::uint8_t> order_;
+};
+
+// One field, in the most compact class that reproduces its bits.
+template <class T> void encode_value(Encoder& e, T x) {
+    const Bits<T> bits = to_bits(x);
+    for (unsigned n = 0; n < 32; ++n) {
+        const T v = T((n & 1u) ? -int(n + 1) / 2 : int(n / 2));
+        if (to_bits(v) == bits) return e.put(std::uint8_t(n << 3 | small_int));
+    }
+    const auto& sv = special_values<T>();
+    for (unsigned n = 0; n < 32; ++n)
+        if (to_bits(sv[n]) == bits) return e.put(std::uint8_t(n << 3 | special));
+    if (std::isfinite(x) && x == std::trunc(x) && std::fabs(x) <= 32767 && to_bits(T(std::int16_t(x))) == bits) {
+        e.put(std::uint8_t(int16));
+        return e.put(std::uint16_t(std::int16_t(x)));
+    }
+    e.put(std::uint8_t(raw));
+    e.put(bits);
+}
+
+// The bytes of a case: t range [decoded, decoded] (or [0, +inf) when it is that range),
+// Obb axes decoded one by one, every field in its most compact class, no patches.
+template <class T, class Shape> std::vector<std::uint8_t> encode(const Ray<T>& ray, const Shape& shape) {
+    Input<T, Shape> in{ray, shape};
+    auto f = fields(in);
+    const bool default_range = to_bits(ray.t_min) == to_bits(T(0)) && ray.t_max == std::numeric_limits<T>::infinity();
+    Encoder e;
+    e.put(std::uint8_t((std::is_same_v<T, double> ? kDoubleBit : 0u) | ((default_range ? 0u : 3u) << kTRangeShift)));
+    const int n = int(f.size()) - (default_range ? 2 : 0);
+    for (int k = 0; k < n; ++k) encode_value(e, *f[k]);
+    return e.bytes();
+}
+
+}  // namespace rayproof::fuzz

@@ -1,0 +1,55 @@
+# fuzz/targets.cmake — the fuzz targets' names and their plain replay executables
+# (<target>_replay: the harness with replay_main.cpp instead of a fuzzing engine, any
+# compiler), shared by fuzz/CMakeLists.txt (the fuzzing build) and tests/regressions
+# (the CTest replay of the regressions and the corpora in every build).
+set(RAYPROOF_FUZZ_DIR ${CMAKE_CURRENT_LIST_DIR})
+set(RAYPROOF_FUZZ_SHAPE_TARGETS ray_aabb_fuzz ray_obb_fuzz ray_plane_fuzz ray_sphere_fuzz)
+
+# libFuzzer's FuzzedDataProvider.h lives in clang's resource directory (Debian's
+# libclang-common-14-dev, pulled in by the clang package). Adding that whole directory
+# to a g++ build breaks it, so the one header is copied into the build tree and that
+# directory is put on the replay executables' include path.
+if(NOT RAYPROOF_FDP_DIR)
+  file(GLOB _rayproof_fdp_candidates
+       /usr/lib/llvm-*/lib/clang/*/include/fuzzer/FuzzedDataProvider.h
+       /usr/lib/clang/*/include/fuzzer/FuzzedDataProvider.h)
+  if(_rayproof_fdp_candidates)
+    list(GET _rayproof_fdp_candidates 0 _rayproof_fdp)
+    file(COPY ${_rayproof_fdp} DESTINATION ${CMAKE_BINARY_DIR}/fuzz_provider/fuzzer)
+    set(RAYPROOF_FDP_DIR ${CMAKE_BINARY_DIR}/fuzz_provider CACHE INTERNAL "")
+  else()
+    message(WARNING "fuzzer/FuzzedDataProvider.h not found (install clang): the fuzz replay tests are not built")
+  endif()
+endif()
+
+# What a harness links: the shape targets the kernel and the oracle; scene_fuzz the tracer.
+function(rayproof_fuzz_link exe harness)
+  target_include_directories(${exe} PRIVATE ${RAYPROOF_FUZZ_DIR} ${RAYPROOF_FDP_DIR})
+  if(harness STREQUAL "scene_fuzz")
+    target_link_libraries(${exe} PRIVATE rayproof::render rayproof::kernel)
+  else()
+    target_link_libraries(${exe} PRIVATE rayproof::oracle rayproof::kernel)
+  endif()
+  target_compile_features(${exe} PRIVATE cxx_std_20)
+  target_compile_options(${exe} PRIVATE ${RAYPROOF_WARNINGS})
+endfunction()
+
+# <harness>_replay, unless an earlier directory already defined it.
+function(rayproof_add_fuzz_replay harness)
+  if(TARGET ${harness}_replay OR NOT RAYPROOF_FDP_DIR)
+    return()
+  endif()
+  add_executable(${harness}_replay ${RAYPROOF_FUZZ_DIR}/${harness}.cpp ${RAYPROOF_FUZZ_DIR}/replay_main.cpp)
+  rayproof_fuzz_link(${harness}_replay ${harness})
+endfunction()
+
+# rayproof_fuzz_seeds: writes the seed corpora, checks the byte format's round trip.
+function(rayproof_add_fuzz_seeds)
+  if(TARGET rayproof_fuzz_seeds OR NOT TARGET rayproof_generators OR NOT RAYPROOF_FDP_DIR)
+    return()
+  endif()
+  add_executable(rayproof_fuzz_seeds ${RAYPROOF_FUZZ_DIR}/seeds.cpp)
+  target_include_directories(rayproof_fuzz_seeds PRIVATE ${RAYPROOF_FUZZ_DIR} ${RAYPROOF_FDP_DIR})
+  target_link_libraries(rayproof_fuzz_seeds PRIVATE rayproof::generators rayproof::kernel)
+  target_compile_options(rayproof_fuzz_seeds PRIVATE ${RAYPROOF_WARNINGS})
+endfunction()
