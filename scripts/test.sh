@@ -16,7 +16,7 @@ for cc in g++ clang++; do
   echo "== $name: built in $(( $(date +%s) - start )) s; running the suite"
   ctest --test-dir "$ROOT/build/$name" -j "$JOBS" --output-on-failure --timeout 1500 \
     >"$ROOT/build/$name.ctest.log" 2>&1 || status=1
-  grep -E "tests passed|tests failed|Label Time|^\s+[a-z-]+\s+=|\(Failed\)|\(Timeout\)|\(SEGFAULT\)|Exception" \
+  grep -E "tests passed|tests failed|Label Time|^[a-z-]+ +=|\(Failed\)|\(Timeout\)|\(SEGFAULT\)|Exception" \
     "$ROOT/build/$name.ctest.log" || true
   if [ $status -ne 0 ]; then
     echo "== $name: failures (full log: build/$name.ctest.log)"
