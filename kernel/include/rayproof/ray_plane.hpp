@@ -118,17 +118,23 @@ private:
     int sden_;
 };
 
+// A ray parallel to the plane (n·d == 0 exactly) lies in it, and hits on its whole
+// range, or misses; every mode decides this the same way (exactly).
+template <class T, class X> Hit<T> parallel_answer(const Ray<T>& r, const X& x) {
+    Hit<T> h;
+    if (x.in_plane()) {
+        h.verdict = Verdict::hit;
+        h.t_enter = r.t_min;
+        h.t_exit = r.t_max;
+    }
+    return h;
+}
+
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, conservative_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
     const PlaneCrossing<T> x(r, p.plane);
     Hit<T> h;
-    if (x.den_sign() == 0) {
-        if (!x.in_plane()) return h;
-        h.verdict = Verdict::hit;
-        h.t_enter = r.t_min;
-        h.t_exit = r.t_max;
-        return h;
-    }
+    if (x.den_sign() == 0) return parallel_answer(r, x);
     const Interval<double> t = x.enclose();
     const double lo = std::max(t.lo, double(r.t_min)), hi = std::min(t.hi, double(r.t_max));
     if (!(lo <= hi)) return h;
@@ -144,13 +150,7 @@ template <class T, class X> Hit<T> plane_certified(const Ray<T>& r, const X& x) 
     RAYPROOF_COUNT_QUERY();
     bool went_exact = false;
     Hit<T> h;
-    if (x.den_sign() == 0) {
-        if (!x.in_plane()) return h;
-        h.verdict = Verdict::hit;
-        h.t_enter = r.t_min;
-        h.t_exit = r.t_max;
-        return h;
-    }
+    if (x.den_sign() == 0) return parallel_answer(r, x);
     const Interval<double> t = x.enclose();
     const SlabRef crossing{0, 0, 0};
     // t_min <= t ?
