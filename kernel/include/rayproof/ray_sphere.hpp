@@ -246,11 +246,13 @@ template <class T> T key_float(std::int64_t k) {
 
 // The least key in (lo, hi] where a monotone predicate (false ... false true ... true)
 // turns true, given pred(lo) false and pred(hi) true, starting the search near `guess`.
+// Key differences are taken in unsigned arithmetic: hi - lo can exceed INT64_MAX.
 template <class P> std::int64_t first_true(std::int64_t lo, std::int64_t hi, std::int64_t guess, P&& pred) {
     if (guess > lo && guess < hi) {  // gallop outwards from the guess, then bisect
         if (pred(guess)) {
             hi = guess;
-            for (std::int64_t step = 1; step < (std::int64_t(1) << 62) && hi - step > lo; step *= 2) {
+            for (std::int64_t step = 1; step < (std::int64_t(1) << 62) && std::uint64_t(step) < std::uint64_t(hi) - std::uint64_t(lo);
+                 step *= 2) {
                 if (!pred(hi - step)) {
                     lo = hi - step;
                     break;
@@ -259,7 +261,8 @@ template <class P> std::int64_t first_true(std::int64_t lo, std::int64_t hi, std
             }
         } else {
             lo = guess;
-            for (std::int64_t step = 1; step < (std::int64_t(1) << 62) && lo + step < hi; step *= 2) {
+            for (std::int64_t step = 1; step < (std::int64_t(1) << 62) && std::uint64_t(step) < std::uint64_t(hi) - std::uint64_t(lo);
+                 step *= 2) {
                 if (pred(lo + step)) {
                     hi = lo + step;
                     break;
