@@ -23,6 +23,7 @@
 #include <rayproof/rayproof.hpp>
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
