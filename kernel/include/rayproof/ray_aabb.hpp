@@ -62,7 +62,7 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, fast_
 // overflows or underflows) followed by (ph - z) - pl, where ph - z is exact
 // (Sterbenz: ph and z are within a factor 2 of each other in the use below) and the
 // last subtraction rounds once.
-inline double mul_sub(double x, double y, double z) {
+RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
 #if defined(__FMA__) || defined(__FP_FAST_FMA)
     return std::fma(x, y, -z);
 #else
@@ -87,23 +87,41 @@ inline double mul_sub(double x, double y, double z) {
 // A faithfully rounded double rounded to nearest T is a faithfully rounded T (the two
 // T values enclosing t enclose the double); beyond the largest finite T the enclosing
 // finite neighbour is answered, as exact_faithful does.
-template <class T> std::optional<T> faithful_slab_value(T p, T o, T dT, double approx, double inv) {
-    constexpr double big = std::numeric_limits<double>::max();
-    const Pair se = two_sum(double(p), -double(o));
-    if (se.hi == 0) return T(0);
-    const double d = dT;
-    const double ai = std::abs(inv), at = std::abs(approx);
+// The correction in double, branch-free: {t', ok}; ok is false where the conditions
+// above fail. p == o gives exactly +0 (ok).
+struct FaithfulDouble {
+    double t;
+    bool ok;
+};
+RAYPROOF_ALWAYS_INLINE FaithfulDouble faithful_slab_double(double p, double o, double d, double approx, double inv) {
+    const Pair se = two_sum(p, -o);
     // |d|, |t~| <= 2^995 also keeps Dekker's splitting (no hardware fma) from overflowing.
     // |s| <= 2^1020 also keeps two_sum itself exact (its intermediate s - a overflows
     // within an ulp of the largest double, giving a NaN error term).
-    const double as = std::abs(se.hi);
-    if (!(int(as >= 0x1p-960) & int(as <= 0x1p1020) & int(at >= 0x1p-960) & int(at <= 0x1p995) &
-          int(ai >= 0x1p-1022) & int(ai <= big) & int(std::abs(d) <= 0x1p995)))
-        return std::nullopt;
+    const double as = std::abs(se.hi), at = std::abs(approx), ai = std::abs(inv);
+    const bool in_range = int(as >= 0x1p-960) & int(as <= 0x1p1020) & int(at >= 0x1p-960) & int(at <= 0x1p995) &
+                          int(ai >= 0x1p-1022) & int(ai <= std::numeric_limits<double>::max()) &
+                          int(std::abs(d) <= 0x1p995);
     const double t = approx + (se.lo - mul_sub(approx, d, se.hi)) * inv;
-    if (std::abs(t) > double(std::numeric_limits<T>::max()))
-        return std::copysign(std::numeric_limits<T>::max(), T(t > 0 ? 1 : -1));
-    return static_cast<T>(t);
+    const bool zero = se.hi == 0;
+    return {zero ? 0.0 : t, bool(int(in_range) | int(zero))};
+}
+// The faithfully rounded double to T: a faithfully rounded double rounded to nearest T
+// is a faithfully rounded T (the two T values enclosing t enclose the double); beyond
+// the largest finite T the enclosing finite neighbour is answered, as exact_faithful
+// does.
+template <class T> T faithful_to(double t) {
+    if constexpr (std::is_same_v<T, double>) {
+        return t;
+    } else {
+        constexpr double big = std::numeric_limits<T>::max();
+        return static_cast<T>(std::min(std::max(t, -big), big));
+    }
+}
+template <class T> std::optional<T> faithful_slab_value(T p, T o, T dT, double approx, double inv) {
+    const FaithfulDouble f = faithful_slab_double(double(p), double(o), double(dT), approx, inv);
+    if (!f.ok) return std::nullopt;
+    return faithful_to<T>(f.t);
 }
 template <class T> std::optional<T> faithful_slab_value(T p, T o, T d) {
     const double inv = 1.0 / double(d);
@@ -173,48 +191,60 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 }
 
 // The certified answer's common case in straight-line code: the slab values and their
-// error bounds, the entry argmax and exit argmin as in fast mode, and checks that the
-// bounds separate every comparison that decided them. Anything the checks cannot
-// vouch for (close values, overflow) goes to the general path, slab_certified on
-// AabbFrame, which decides exactly; this one only answers where its decisions are
-// proven, so both give the same answer.
-// Bound: with 1/d normal and finite (|d| in [2^-1022, 2^1022]), p - o exact when it is
+// error bounds, the entry argmax and exit argmin as in fast mode, checks that the bounds
+// separate every comparison that decided them, and the faithful rounding of the winning
+// entry and exit values. Everything is computed branch-free (the verdict, the winning
+// axes and the signs of d are as random as the rays); one well-predicted branch hands
+// anything the checks cannot vouch for (close values, overflow, extreme exponents) to
+// the general path, slab_certified on AabbFrame, which decides exactly. This one only
+// answers where its decisions are proven, so both give the same answer.
+// Bound: with 1/d normal and finite (|d| in [2^-1022, 2^995]), p - o exact when it is
 // subnormal, and a subnormal product off by at most 2^-1075, each computed value is
 // within gamma(3)|t| + 2^-1075 of t; the ends t~ ∓ (K|t~| + eta), K = 2·gamma(3),
 // eta = 2^-1022 (the smallest normal: a subnormal constant would slow every query on
-// processors that take an assist on subnormal operands), cover that and their own two roundings (see the header comment). An
-// overflowed value (±inf) makes some check compare a NaN, which fails it.
+// processors that take an assist on subnormal operands), cover that and their own two
+// roundings (see the header comment). An overflowed value (±inf) makes some check
+// compare a NaN, which fails it.
 template <class T> std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
     constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
-    const double d0 = r.direction[0], d1 = r.direction[1], d2 = r.direction[2];
-    // Parallel axes (d_i == ±0) and directions whose reciprocal is not a normal double
-    // go to the general path.
-    const double a0 = std::abs(d0), a1 = std::abs(d1), a2 = std::abs(d2);
-    if (!(int(std::min(std::min(a0, a1), a2) >= 0x1p-1022) & int(std::max(std::max(a0, a1), a2) <= 0x1p1022)))
+    // Parallel axes (d_i == ±0), directions whose reciprocal is not a normal double and
+    // directions beyond faithful_slab_double's range go to the general path.
+    const double a0 = std::abs(double(r.direction[0])), a1 = std::abs(double(r.direction[1])),
+                 a2 = std::abs(double(r.direction[2]));
+    if (!(int(std::min(std::min(a0, a1), a2) >= 0x1p-1022) & int(std::max(std::max(a0, a1), a2) <= 0x1p995)))
         return std::nullopt;
     // Latest entry (t_min first, strict > keeps the lowest axis on ties), earliest exit,
     // and the runners-up (the largest value among the entries that did not win, the
-    // smallest among the exits), all branch-free: w and x are as random as the rays.
+    // smallest among the exits). Per axis, the entry plane is lo for d > 0 and hi for
+    // d < 0 (d != 0 here, and the computed values keep that order: both roundings are
+    // monotone and 1/d has the sign of d).
     int w = -1, x = -1;
     double in = r.t_min, out = r.t_max, in2 = -inf, out2 = inf;
     double finite = 0;  // stays 0 while every slab value is finite, NaN otherwise (x - x)
+    double inv[3], p_in[3], p_out[3], t_in[3], t_out[3];
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 3
+#elif defined(__clang__)
+#pragma clang loop unroll(full)
+#endif
     for (int i = 0; i < 3; ++i) {
-        const double inv = 1.0 / r.direction[i], o = r.origin[i];
-        const double t_lo = (double(b.lo[i]) - o) * inv;
-        const double t_hi = (double(b.hi[i]) - o) * inv;
+        const double o = r.origin[i];
+        const bool neg = r.direction[i] < 0;
+        inv[i] = 1.0 / double(r.direction[i]);
+        p_in[i] = pick(neg, double(b.hi[i]), double(b.lo[i]));
+        p_out[i] = pick(neg, double(b.lo[i]), double(b.hi[i]));
+        t_in[i] = (p_in[i] - o) * inv[i];
+        t_out[i] = (p_out[i] - o) * inv[i];
         // p - o can overflow although (p - o)/d is moderate: such a value must not be
         // taken for "no constraint".
-        finite += (t_lo - t_lo) + (t_hi - t_hi);
-        // No NaN here (d != 0, 1/d finite): the entry is the smaller value, whatever
-        // the sign of d, in float registers throughout.
-        const double t_in = std::min(t_lo, t_hi), t_out = std::max(t_lo, t_hi);
-        const bool later = t_in > in, earlier = t_out < out;
+        finite += (t_in[i] - t_in[i]) + (t_out[i] - t_out[i]);
+        const bool later = t_in[i] > in, earlier = t_out[i] < out;
         w += int(later) * (i - w);
         x += int(earlier) * (i - x);
-        in2 = std::max(in2, std::min(in, t_in));
-        out2 = std::min(out2, std::max(out, t_out));
-        in = t_in > in ? t_in : in;
-        out = t_out < out ? t_out : out;
+        in2 = std::max(in2, std::min(in, t_in[i]));
+        out2 = std::min(out2, std::max(out, t_out[i]));
+        in = t_in[i] > in ? t_in[i] : in;
+        out = t_out[i] < out ? t_out[i] : out;
     }
     // The winner's bound strictly beyond the runner-up's (a tie fails this and goes to
     // the exact stage). Bounds are put on t_min and t_max too although they are exact
@@ -224,31 +254,22 @@ template <class T> std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, 
     const double in_lo = in - ein, in_hi = in + ein, out_lo = out - eout, out_hi = out + eout;
     const double in2_hi = in2 + (K * std::abs(in2) + eta), out2_lo = out2 - (K * std::abs(out2) + eta);
     const bool miss = in_lo > out_hi, hit = in_hi < out_lo;
-    if (!(int(in2_hi < in_lo) & int(out2_lo > out_hi) & (int(miss) | int(hit)) & int(finite == 0)))
+    // The faithful entry and exit values, computed on every path (an axis index of -1,
+    // t_min or t_max winning, reads axis 0 and discards the result).
+    const int wi = w & ~(w >> 31), xi = x & ~(x >> 31);
+    const FaithfulDouble fe = faithful_slab_double(p_in[wi], r.origin[wi], r.direction[wi], t_in[wi], inv[wi]);
+    const FaithfulDouble fx = faithful_slab_double(p_out[xi], r.origin[xi], r.direction[xi], t_out[xi], inv[xi]);
+    const bool rounded = int(miss) | ((int(w < 0) | int(fe.ok)) & (int(x < 0) | int(fx.ok)));
+    if (!(int(in2_hi < in_lo) & int(out2_lo > out_hi) & (int(miss) | int(hit)) & int(finite == 0) & int(rounded)))
         return std::nullopt;
+    const T te = w < 0 ? r.t_min : faithful_to<T>(fe.t);
+    const T tx = x < 0 ? r.t_max : faithful_to<T>(fx.t);
     Hit<T> h;
-    if (miss) return h;  // entry certainly after exit
-    h.verdict = Verdict::hit;
-    if (w >= 0) {
-        const bool neg = r.direction[w] < 0;
-        const std::optional<T> t =
-            faithful_slab_value<T>(neg ? b.hi[w] : b.lo[w], r.origin[w], r.direction[w], in, 1.0 / double(r.direction[w]));
-        if (!t) return std::nullopt;
-        h.t_enter = *t;
-        h.face = 2 * w + int(neg);
-    } else {
-        h.t_enter = r.t_min;
-    }
-    if (x >= 0) {
-        const std::optional<T> t =
-            faithful_slab_value<T>(r.direction[x] < 0 ? b.lo[x] : b.hi[x], r.origin[x], r.direction[x], out,
-                                   1.0 / double(r.direction[x]));
-        if (!t) return std::nullopt;
-        h.t_exit = *t;
-    } else {
-        h.t_exit = r.t_max;
-    }
-    if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;  // see slab_certified
+    h.verdict = hit ? Verdict::hit : Verdict::miss;
+    // A miss carries the default fields.
+    h.t_enter = hit ? std::min(te, tx) : T(0);  // min: see slab_certified
+    h.t_exit = hit ? tx : T(0);
+    h.face = hit ? (w < 0 ? -1 : 2 * w + int(r.direction[wi] < 0)) : -1;
     return h;
 }
 
