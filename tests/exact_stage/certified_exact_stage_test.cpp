@@ -43,6 +43,7 @@ template <class T> struct PlaneExactOnly : PlaneCrossing<T> {
     int den_sign() const { return this->den_sign_exact(); }
     bool in_plane() const { return this->in_plane_exact(); }
     Interval<double> enclose() const { return kWholeLine; }
+    std::optional<double> compensated_faithful() const { return std::nullopt; }
 };
 
 template <class T> struct SphereExactOnly : SphereQuadratic<T> {
@@ -50,6 +51,7 @@ template <class T> struct SphereExactOnly : SphereQuadratic<T> {
     Interval<double> at(double) const { return kWholeLine; }
     Interval<double> slope(double) const { return kWholeLine; }
     Interval<double> discriminant() const { return kWholeLine; }
+    int compensated_sign_at(double) const { return 2; }
     std::pair<Interval<double>, Interval<double>> roots(const Interval<double>&) const { return {kWholeLine, kWholeLine}; }
 };
 

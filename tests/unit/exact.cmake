@@ -10,12 +10,15 @@ find_path(RAYPROOF_GMPXX_INCLUDE_DIR gmpxx.h REQUIRED)
 find_library(RAYPROOF_GMPXX_LIBRARY gmpxx REQUIRED)
 find_library(RAYPROOF_GMP_LIBRARY gmp REQUIRED)
 
-add_executable(exact_test ${CMAKE_CURRENT_LIST_DIR}/exact_test.cpp)
-target_include_directories(exact_test SYSTEM PRIVATE ${RAYPROOF_GMPXX_INCLUDE_DIR})
-target_link_libraries(exact_test PRIVATE rayproof::kernel GTest::gtest_main
-                      ${RAYPROOF_GMPXX_LIBRARY} ${RAYPROOF_GMP_LIBRARY})
-if(DEFINED RAYPROOF_WARNINGS)
-  target_compile_options(exact_test PRIVATE ${RAYPROOF_WARNINGS})
-endif()
-# The random suites are seeded; RAYPROOF_SEED=<decimal> in the environment replays a run.
-gtest_discover_tests(exact_test PROPERTIES LABELS unit)
+# compensated_test: the double-word stage (rayproof/detail/compensated.hpp), likewise.
+foreach(t exact_test compensated_test)
+  add_executable(${t} ${CMAKE_CURRENT_LIST_DIR}/${t}.cpp)
+  target_include_directories(${t} SYSTEM PRIVATE ${RAYPROOF_GMPXX_INCLUDE_DIR})
+  target_link_libraries(${t} PRIVATE rayproof::kernel GTest::gtest_main
+                        ${RAYPROOF_GMPXX_LIBRARY} ${RAYPROOF_GMP_LIBRARY})
+  if(DEFINED RAYPROOF_WARNINGS)
+    target_compile_options(${t} PRIVATE ${RAYPROOF_WARNINGS})
+  endif()
+  # The random suites are seeded; RAYPROOF_SEED=<decimal> in the environment replays a run.
+  gtest_discover_tests(${t} PROPERTIES LABELS unit)
+endforeach()

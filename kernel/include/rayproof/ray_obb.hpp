@@ -26,9 +26,12 @@
 //            and the sign of d'_i, are decided exactly: num = ±h_i - Σ_j a_ji (o_j - c_j)
 //            and den = Σ_j a_ji d_j are degree 2, comparisons of two slab values degree 4
 //            (detail/exact.hpp). t is rounded faithfully from the interval when it lies
-//            strictly between the neighbours of its midpoint, else exactly.
+//            strictly between the neighbours of its midpoint; for double next from
+//            double-word num and den with proven bounds (detail/compensated.hpp); else
+//            exactly.
 #pragma once
 
+#include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/slab_certified.hpp>
 #include <rayproof/detail/slab_fast.hpp>
 #include <rayproof/detail/validate.hpp>
@@ -107,11 +110,31 @@ public:
     }
     T faithful(int i, int side, const Interval<double>& v, bool& went_exact) const {
         if (const std::optional<T> t = faithful_from_enclosure<T>(v)) return *t;
+        if constexpr (std::is_same_v<T, double>) {
+            if (const std::optional<double> t = compensated_faithful(i, side)) return *t;
+        }
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, i, side);
     }
 
     int den_sign_exact(int i) const { return exact_den_sign(i); }
+    // The slab value faithfully rounded to double from double-word num and den
+    // (detail/compensated.hpp): num = ±h_i - Σ_j a_ji (o_j - c_j) with o_j - c_j split
+    // exactly by two_sum (25 exact terms), den = Σ_j a_ji d_j (6); nothing when the
+    // bounds cannot decide. Needs den_sign(i) != 0.
+    std::optional<double> compensated_faithful(int i, int side) const {
+        CompensatedSum n, d;
+        const double h = b_->half_extent[i];
+        n.add(side ? h : -h);
+        for (int j = 0; j < 3; ++j) {
+            const double a = b_->axes(j, i);
+            const Pair oc = two_sum(double(r_->origin[j]), -double(b_->center[j]));
+            n.add_product(-a, oc.hi);
+            n.add_product(-a, oc.lo);
+            d.add_product(a, double(r_->direction[j]));
+        }
+        return compensated_faithful_quotient(n, d, sden_[i]);
+    }
 
 private:
     template <class E> E oprime(int i) const {

@@ -20,9 +20,13 @@
 //            arithmetic (detail/exact.hpp): sign(den) and sign(num) are degree 2, the
 //            position of t against t_min/t_max sign(num - t_min·den)·sign(den) degree
 //            3; t is rounded faithfully from the interval when it lies strictly between
-//            the neighbours of its midpoint, else exactly.
+//            the neighbours of its midpoint; for double (whose intervals are rarely
+//            that narrow) next from double-word num and den with proven bounds
+//            (detail/compensated.hpp: 7 and 6 exact terms); else exactly. For float
+//            every step is in double and the interval suffices nearly always.
 #pragma once
 
+#include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/interval.hpp>
 #include <rayproof/detail/slab_certified.hpp>
@@ -88,6 +92,17 @@ public:
         return exact_sign([&](auto tag) { return num<typename decltype(tag)::type>(); }) == 0;
     }
     Interval<double> enclose() const { return divide_signed(num_, den_, sden_); }
+    // t faithfully rounded to double from double-word num and den (detail/compensated.hpp),
+    // or nothing when that cannot be proven; needs den_sign() != 0.
+    std::optional<double> compensated_faithful() const {
+        CompensatedSum n, d;
+        n.add(double(p_->offset));
+        for (int j = 0; j < 3; ++j) {
+            n.add_product(-double(p_->normal[j]), double(r_->origin[j]));
+            d.add_product(double(p_->normal[j]), double(r_->direction[j]));
+        }
+        return compensated_faithful_quotient(n, d, sden_);
+    }
     // Interface of the slab frames, for exact_compare / exact_faithful (axis 0 only).
     template <class E> E num(int = 0, int = 0) const {
         E s(double(p_->offset));
@@ -176,8 +191,11 @@ template <class T, class X> Hit<T> plane_certified(const Ray<T>& r, const X& x) 
     }
     if (after_min && before_max) {
         h.verdict = Verdict::hit;
+        std::optional<double> c;
         if (const std::optional<T> f = faithful_from_enclosure<T>(t)) {
             h.t_enter = *f;
+        } else if (std::is_same_v<T, double> && (c = x.compensated_faithful())) {
+            h.t_enter = T(*c);
         } else {
             RAYPROOF_COUNT_EXACT(went_exact);
             h.t_enter = exact_faithful<T>(x, 0, 0);

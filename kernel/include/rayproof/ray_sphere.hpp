@@ -33,9 +33,12 @@
 //            t_exit likewise from above. The search starts at the interval root and
 //            gallops then bisects over the ordered floats (at most ~2·64 predicate
 //            evaluations, usually 2). Exact signs: q(g) is degree 4, b² - a c' degree 4,
-//            a·g + b degree 3 (detail/exact.hpp).
+//            a·g + b degree 3 (detail/exact.hpp). For double, a q(g) the interval cannot
+//            sign (near a root its enclosure holds 0) is tried next in double-word
+//            arithmetic with a proven bound (compensated_sign_at), then exactly.
 #pragma once
 
+#include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/interval.hpp>
 #include <rayproof/detail/slab_certified.hpp>
@@ -133,6 +136,41 @@ public:
         return s - sqr(I(double(s_->radius)));
     }
     I slope(double t) const { return a_ * I(t) + b_; }  // a t + b, half the derivative
+
+    // sign q(t) from double-word arithmetic with a proven bound (detail/compensated.hpp),
+    // or 2 when that cannot decide (q(t) == 0 never is). t finite.
+    // w_j = (o_j - c_j) + t·d_j is held exactly by four terms (two_sum, two_prod) and
+    // summed to W_j + ω_j with |w_j - W_j - ω_j| <= β_j; then
+    // w_j² = W_j² + 2 W_j ω_j + ε_j, |ε_j| <= ω_j² + β_j (2|W_j| + 2|ω_j| + β_j), and
+    // Σ (W_j² + 2 W_j ω_j) - r² is a CompensatedSum of exact products (bound B). The
+    // value v = fl(hi + lo) is within u|v| of hi + lo; a sign is answered when |v|
+    // exceeds 2(B + Σ_j bound(ε_j)) + 2^-1020: the doubling covers u and the relative
+    // error of evaluating the bound (about gamma(12)), 2^-1020 its underflow.
+    int compensated_sign_at(double t) const {
+        CompensatedSum q;
+        double err = 0;
+        for (int j = 0; j < 3; ++j) {
+            CompensatedSum w;
+            const Pair oc = two_sum(double(r_->origin[j]), -double(s_->center[j]));
+            w.add(oc.hi);
+            w.add(oc.lo);
+            w.add_product(t, double(r_->direction[j]));
+            if (!w.ok()) return 2;
+            const double W = w.hi(), om = w.lo(), beta = w.bound();
+            q.add_product(W, W);
+            q.add_product(2 * W, om);
+            err += om * om + beta * (2 * std::abs(W) + 2 * std::abs(om) + beta);
+        }
+        const double rad = s_->radius;
+        q.add_product(-rad, rad);
+        if (!q.ok()) return 2;
+        const double threshold = 2 * (q.bound() + err) + 0x1p-1020;
+        const double v = q.hi() + q.lo();
+        if (!(threshold <= 0x1p1000)) return 2;
+        if (v > threshold) return 1;
+        if (v < -threshold) return -1;
+        return 2;
+    }
 
     // Exact signs.
     int sign_at(double t) const {  // sign q(t), t finite
@@ -294,6 +332,10 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
         if (std::isinf(t)) return 1;
         const int s = q.at(double(t)).certain_sign();
         if (s != 2) return s;
+        if constexpr (std::is_same_v<T, double>) {
+            const int c = q.compensated_sign_at(double(t));
+            if (c != 2) return c;
+        }
         RAYPROOF_COUNT_EXACT(went_exact);
         return q.sign_at(double(t));
     };
