@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# fuzz/mutants.sh — does the fuzzing catch a broken kernel? Each mutation below is a
+# plausible one-line bug (an error bound too small, a closed boundary made open, a
+# dropped correction, a wrong exact sign); for each one this script copies the source
+# tree to build/fuzz/mutants/src, applies the mutation there (never to the checkout),
+# rebuilds the one target that should notice it (same sanitizer build as fuzz/ci.sh),
+# and fuzzes it for at most --seconds. A mutant the fuzzer does not report within that
+# time survived: the script prints one line per mutation (found or not, the seconds
+# and executions it took, what was reported) and exits 1 if any survived.
+#
+#   fuzz/mutants.sh [--seconds S] [--empty] [--only NAME]
+#     --seconds S   time limit per mutant (default 60)
+#     --empty       start from an empty corpus instead of the committed fuzz/corpus/<target>/
+#     --only NAME   run one mutation (see the table below)
+source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
+seconds=60 empty=0 only=""
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --seconds) seconds="$2"; shift 2 ;;
+    --empty) empty=1; shift ;;
+    --only) only="$2"; shift 2 ;;
+    -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    *) echo "unknown argument: $1 (see --help)" >&2; exit 2 ;;
+  esac
+done
+
+# name | target | file | perl substitution (must match exactly once) | what it breaks
+MUTATIONS=(
+  "aabb-no-correction|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/const double t = approx \+ \(se\.lo - mul_sub\(approx, d, se\.hi\)\) \* inv;/const double t = approx;/|certified Aabb t not faithfully rounded (the compensated correction dropped)"
+  "aabb-filter-no-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/constexpr double K = 2 \* gamma<double>\(3\), eta = 0x1p-1022,/constexpr double K = 0, eta = 0,/|certified Aabb filter without its error bound: every close comparison decided by floating point"
+  "aabb-conservative-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/constexpr double K = 2 \* gamma<double>\(3\);/constexpr double K = 0;/|conservative Aabb enclosure without its error bound"
+  "aabb-flat-box-invalid|ray_aabb_fuzz|kernel/include/rayproof/detail/validate.hpp|s/b\.lo\[0\] <= b\.hi\[0\]/b.lo[0] < b.hi[0]/|a flat Aabb (lo_0 == hi_0) reported invalid"
+  "obb-open-parallel-slab|ray_obb_fuzz|kernel/include/rayproof/ray_obb.hpp|s/return above\.sign\(\) >= 0 && below\.sign\(\) >= 0;/return above.sign() > 0 && below.sign() > 0;/|Obb: a ray parallel to a slab and exactly on its face plane taken as outside (exact stage)"
+  "plane-in-plane-miss|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/if \(x\.in_plane\(\)\) \{/if (false \&\& x.in_plane()) {/|Plane: a ray lying in the plane reported as a miss"
+  "sphere-tangent-miss|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/hit = sd >= 0;/hit = sd > 0;/|Sphere: an exactly tangent ray (zero discriminant) reported as a miss"
+  "exact-two-sum-sign|ray_obb_fuzz|kernel/include/rayproof/detail/exact.hpp|s/return \{s, \(a - av\) \+ \(b - bv\)\};/return {s, (a - av) - (b - bv)};/|exact arithmetic: two_sum's error term with a wrong sign"
+)
+
+work="$FUZZ_BUILD/mutants"
+src="$work/src"
+bld="$work/build"
+rm -rf "$src"
+mkdir -p "$src" "$bld"
+# The tracked files of the checkout as they are now (uncommitted edits included).
+(cd "$ROOT" && git ls-files -z | tar --null -T - -cf -) | tar -xf - -C "$src"
+
+echo "== mutants: configuring build/fuzz/mutants/build"
+cmake -S "$src" -B "$bld" -G Ninja -DCMAKE_CXX_COMPILER="${RAYPROOF_FUZZ_CXX:-clang++}" \
+  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" \
+  -DCMAKE_CXX_FLAGS="$SANITIZE" -DCMAKE_EXE_LINKER_FLAGS="$SANITIZE" \
+  -DRAYPROOF_FUZZ=ON -DRAYPROOF_ORACLE=ON -DRAYPROOF_RENDER=OFF -DRAYPROOF_BENCH=OFF \
+  -DBUILD_TESTING=OFF -DRAYPROOF_WERROR=OFF >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
+
+results=()
+survived=0 ran=0
+for m in "${MUTATIONS[@]}"; do
+  IFS='|' read -r name target file subst what <<<"$m"
+  [ -z "$only" ] || [ "$only" = "$name" ] || continue
+  ran=$((ran + 1))
+  # Every other mutation undone: the file as in the checkout, then this one applied.
+  for other in "${MUTATIONS[@]}"; do
+    f=$(echo "$other" | cut -d'|' -f3)
+    cp "$ROOT/$f" "$src/$f"
+  done
+  n=$(perl -ne "\$n++ if $subst; END { print \$n+0 }" "$src/$file")
+  if [ "$n" != 1 ]; then
+    echo "mutation $name: the pattern matches $n lines of $file (expected 1); update the table" >&2
+    exit 2
+  fi
+  perl -pi -e "$subst" "$src/$file"
+  echo "== $name: $what"
+  if ! cmake --build "$bld" --target "$target" -j "${RAYPROOF_JOBS:-2}" >"$work/$name.build.log" 2>&1; then
+    grep -E "error|FAILED" "$work/$name.build.log" | head -20
+    echo "   build FAILED (log: build/fuzz/mutants/$name.build.log)"
+    exit 1
+  fi
+  dir="$work/$name"
+  rm -rf "$dir"
+  mkdir -p "$dir/corpus" "$dir/artifacts"
+  corpora=("$dir/corpus")
+  [ $empty -eq 1 ] || corpora+=("$ROOT/fuzz/corpus/$target")
+  t0=$(date +%s.%N)
+  set +e
+  (cd "$dir" && env -u RAYPROOF_FUZZ_IGNORE -u RAYPROOF_FUZZ_ONLY "$bld/fuzz/$target" \
+     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=4096 -max_len="$(fuzz_max_len "$target")" \
+     -dict="$(fuzz_dict "$target")" -print_final_stats=1 -artifact_prefix="$dir/artifacts/" \
+     "${corpora[@]}" >"$dir/fuzz.log" 2>&1)
+  rc=$?
+  set -e
+  took=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+  read -r execs rate cov ft < <(fuzz_stats "$dir/fuzz.log")
+  if [ $rc -ne 0 ]; then
+    found="FOUND"
+    detail=$(fuzz_finding "$dir/fuzz.log")
+  else
+    found="SURVIVED"
+    detail="no report in ${seconds} s"
+    survived=$((survived + 1))
+  fi
+  results+=("$(printf '%-26s %-16s %-8s %6s s %9s execs  %s' "$name" "$target" "$found" "$took" "$execs" "$detail")")
+  echo "   ${results[-1]}"
+done
+# Leave the copy as in the checkout.
+for other in "${MUTATIONS[@]}"; do
+  f=$(echo "$other" | cut -d'|' -f3)
+  cp "$ROOT/$f" "$src/$f"
+done
+
+echo "== mutants summary (limit ${seconds} s each, $( [ $empty -eq 1 ] && echo 'empty corpus' || echo 'committed corpus'))"
+printf '%s\n' "${results[@]}"
+[ $ran -gt 0 ] || { echo "no mutation named $only" >&2; exit 2; }
+if [ $survived -gt 0 ]; then
+  echo "== $survived mutant(s) survived"
+  exit 1
+fi
+echo "== every mutant was found"
