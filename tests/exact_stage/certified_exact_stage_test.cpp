@@ -43,7 +43,7 @@ template <class T> struct PlaneExactOnly : PlaneCrossing<T> {
     int den_sign() const { return this->den_sign_exact(); }
     bool in_plane() const { return this->in_plane_exact(); }
     Interval<double> enclose() const { return kWholeLine; }
-    std::optional<double> compensated_faithful() const { return std::nullopt; }
+    T faithful(const Interval<double>&, bool&) const { return exact_faithful<T>(*this, 0, 0); }
 };
 
 template <class T> struct SphereExactOnly : SphereQuadratic<T> {

@@ -92,16 +92,22 @@ public:
         return exact_sign([&](auto tag) { return num<typename decltype(tag)::type>(); }) == 0;
     }
     Interval<double> enclose() const { return divide_signed(num_, den_, sden_); }
-    // t faithfully rounded to double from double-word num and den (detail/compensated.hpp),
-    // or nothing when that cannot be proven; needs den_sign() != 0.
-    std::optional<double> compensated_faithful() const {
-        CompensatedSum n, d;
-        n.add(double(p_->offset));
-        for (int j = 0; j < 3; ++j) {
-            n.add_product(-double(p_->normal[j]), double(r_->origin[j]));
-            d.add_product(double(p_->normal[j]), double(r_->direction[j]));
+    // t faithfully rounded to T, given its enclosure t (den_sign() != 0): from the
+    // enclosure when it pins one float; for double next from double-word num and den
+    // (detail/compensated.hpp); else exactly (went_exact is then set).
+    T faithful(const Interval<double>& t, bool& went_exact) const {
+        if (const std::optional<T> f = faithful_from_enclosure<T>(t)) return *f;
+        if constexpr (std::is_same_v<T, double>) {
+            CompensatedSum n, d;
+            n.add(double(p_->offset));
+            for (int j = 0; j < 3; ++j) {
+                n.add_product(-double(p_->normal[j]), double(r_->origin[j]));
+                d.add_product(double(p_->normal[j]), double(r_->direction[j]));
+            }
+            if (const std::optional<double> c = compensated_faithful_quotient(n, d, sden_)) return *c;
         }
-        return compensated_faithful_quotient(n, d, sden_);
+        RAYPROOF_COUNT_EXACT(went_exact);
+        return exact_faithful<T>(*this, 0, 0);
     }
     // Interface of the slab frames, for exact_compare / exact_faithful (axis 0 only).
     template <class E> E num(int = 0, int = 0) const {
@@ -191,16 +197,7 @@ template <class T, class X> Hit<T> plane_certified(const Ray<T>& r, const X& x) 
     }
     if (after_min && before_max) {
         h.verdict = Verdict::hit;
-        std::optional<double> c;
-        if (const std::optional<T> f = faithful_from_enclosure<T>(t)) {
-            h.t_enter = *f;
-        } else if (std::is_same_v<T, double> && (c = x.compensated_faithful())) {
-            h.t_enter = T(*c);
-        } else {
-            RAYPROOF_COUNT_EXACT(went_exact);
-            h.t_enter = exact_faithful<T>(x, 0, 0);
-        }
-        h.t_exit = h.t_enter;
+        h.t_enter = h.t_exit = x.faithful(t, went_exact);
     }
     RAYPROOF_COUNT_FLUSH(went_exact);
     return h;
