@@ -84,11 +84,9 @@ RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
 // (u + gamma(3))·5 ulp(t), a tiny fraction of a gap, so RN(t~ + delta) is one of the
 // two doubles enclosing t, and t itself when it is representable. Needs |s|, |t~| >=
 // 2^-960 and 1/d normal (no underflow in r~ or delta), |t~|, |d| <= 2^995.
-// A faithfully rounded double rounded to nearest T is a faithfully rounded T (the two
-// T values enclosing t enclose the double); beyond the largest finite T the enclosing
-// finite neighbour is answered, as exact_faithful does.
-// The correction in double, branch-free: {t', ok}; ok is false where the conditions
-// above fail. p == o gives exactly +0 (ok).
+// faithful_slab_double is the correction in double, branch-free: {t', ok}; ok is false
+// where the conditions above fail. p == o gives exactly +0 (ok). faithful_to rounds it
+// to T.
 struct FaithfulDouble {
     double t;
     bool ok;
@@ -118,14 +116,11 @@ template <class T> T faithful_to(double t) {
         return static_cast<T>(std::min(std::max(t, -big), big));
     }
 }
-template <class T> std::optional<T> faithful_slab_value(T p, T o, T dT, double approx, double inv) {
-    const FaithfulDouble f = faithful_slab_double(double(p), double(o), double(dT), approx, inv);
-    if (!f.ok) return std::nullopt;
-    return faithful_to<T>(f.t);
-}
 template <class T> std::optional<T> faithful_slab_value(T p, T o, T d) {
     const double inv = 1.0 / double(d);
-    return faithful_slab_value<T>(p, o, d, (double(p) - double(o)) * inv, inv);
+    const FaithfulDouble f = faithful_slab_double(double(p), double(o), double(d), (double(p) - double(o)) * inv, inv);
+    if (!f.ok) return std::nullopt;
+    return faithful_to<T>(f.t);
 }
 
 // The slab frame of an axis-aligned box (see detail/slab_certified.hpp): the slab
