@@ -16,6 +16,8 @@
 #include <rayproof/io.hpp>
 #include <rayproof/rayproof.hpp>
 
+#include "seeded.hpp"
+
 #include <gmpxx.h>
 #include <gtest/gtest.h>
 
@@ -33,20 +35,12 @@ namespace {
 using namespace rayproof::detail;
 
 std::uint64_t base_seed() {
-    static const std::uint64_t s = [] {
-        const char* env = std::getenv("RAYPROOF_SEED");
-        return env ? std::strtoull(env, nullptr, 10) : std::uint64_t(20261122);
-    }();
+    static const std::uint64_t s = rayproof::testing::env_seed_or(20261122);
     return s;
 }
-std::mt19937_64 make_rng() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const std::string name = std::string(info->test_suite_name()) + "." + info->name();
-    std::uint64_t h = base_seed();
-    for (char c : name) h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ull;
-    return std::mt19937_64(h);
-}
-#define SEED_TRACE() SCOPED_TRACE("RAYPROOF_SEED=" + std::to_string(base_seed()))
+// One generator per test, derived from the base seed and the test's name (seeded.hpp).
+std::mt19937_64 make_rng() { return rayproof::testing::rng_for_current_test(base_seed()); }
+#define SEED_TRACE() RAYPROOF_SEED_TRACE(base_seed())
 
 std::string hex(double x) {
     std::ostringstream os;

@@ -5,6 +5,8 @@
 // with the environment variable RAYPROOF_SEED (decimal) to replay a run.
 #include <rayproof/detail/exact.hpp>
 
+#include "seeded.hpp"
+
 #include <gmpxx.h>
 #include <gtest/gtest.h>
 
@@ -27,23 +29,12 @@ using BigExpansion = Expansion<256>;
 // ---------------------------------------------------------------- seeds and printing
 
 std::uint64_t base_seed() {
-    static const std::uint64_t s = [] {
-        const char* env = std::getenv("RAYPROOF_SEED");
-        return env ? std::strtoull(env, nullptr, 10) : std::uint64_t(20240611);
-    }();
+    static const std::uint64_t s = rayproof::testing::env_seed_or(20240611);
     return s;
 }
-
-// One generator per test, derived from the base seed and the test's name.
-std::mt19937_64 make_rng() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    const std::string name = std::string(info->test_suite_name()) + "." + info->name();
-    std::uint64_t h = base_seed();
-    for (char c : name) h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ull;
-    return std::mt19937_64(h);
-}
-
-#define SEED_TRACE() SCOPED_TRACE("RAYPROOF_SEED=" + std::to_string(base_seed()))
+// One generator per test, derived from the base seed and the test's name (seeded.hpp).
+std::mt19937_64 make_rng() { return rayproof::testing::rng_for_current_test(base_seed()); }
+#define SEED_TRACE() RAYPROOF_SEED_TRACE(base_seed())
 
 template <class T> std::string hex(T x) {
     std::ostringstream os;
