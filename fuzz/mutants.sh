@@ -51,17 +51,23 @@ cmake -S "$src" -B "$bld" -G Ninja -DCMAKE_CXX_COMPILER="${RAYPROOF_FUZZ_CXX:-cl
   -DRAYPROOF_FUZZ=ON -DRAYPROOF_ORACLE=ON -DRAYPROOF_RENDER=OFF -DRAYPROOF_BENCH=OFF \
   -DBUILD_TESTING=OFF -DRAYPROOF_WERROR=OFF >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
 
+# Every mutated file as in the checkout (undoes any mutation in the copy).
+restore_all() {
+  local m f
+  for m in "${MUTATIONS[@]}"; do
+    f=$(echo "$m" | cut -d'|' -f3)
+    cp "$ROOT/$f" "$src/$f"
+  done
+}
+
 results=()
 survived=0 ran=0
 for m in "${MUTATIONS[@]}"; do
   IFS='|' read -r name target file subst what <<<"$m"
   [ -z "$only" ] || [ "$only" = "$name" ] || continue
   ran=$((ran + 1))
-  # Every other mutation undone: the file as in the checkout, then this one applied.
-  for other in "${MUTATIONS[@]}"; do
-    f=$(echo "$other" | cut -d'|' -f3)
-    cp "$ROOT/$f" "$src/$f"
-  done
+  # Every other mutation undone, then this one applied.
+  restore_all
   n=$(perl -ne "\$n++ if $subst; END { print \$n+0 }" "$src/$file")
   if [ "$n" != 1 ]; then
     echo "mutation $name: the pattern matches $n lines of $file (expected 1); update the table" >&2
@@ -101,10 +107,7 @@ for m in "${MUTATIONS[@]}"; do
   echo "   ${results[-1]}"
 done
 # Leave the copy as in the checkout.
-for other in "${MUTATIONS[@]}"; do
-  f=$(echo "$other" | cut -d'|' -f3)
-  cp "$ROOT/$f" "$src/$f"
-done
+restore_all
 
 echo "== mutants summary (limit ${seconds} s each, $( [ $empty -eq 1 ] && echo 'empty corpus' || echo 'committed corpus'))"
 printf '%s\n' "${results[@]}"
