@@ -14,8 +14,12 @@
 //               2005; the min/max form of tavianator's notes): inv = 1/d, t1 = (lo -
 //               o)·inv, t2 = (hi - o)·inv, t_enter = max(t_enter, min(t1, t2)), t_exit
 //               = min(t_exit, max(t1, t2)); no face (it answers -1). Aabb and Obb.
+// Each is inlined into the timing loop, as the kernel's entry points are: a Hit
+// returned through memory and copied whole would add a store-forwarding stall to one
+// method and not to another.
 #pragma once
 
+#include <rayproof/detail/float_util.hpp>
 #include <rayproof/types.hpp>
 
 #include <cmath>
@@ -23,7 +27,7 @@
 
 namespace rayproof::bench::baseline {
 
-template <class T> Hit<T> make_hit(T t_enter, T t_exit, int face) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> make_hit(T t_enter, T t_exit, int face) {
     Hit<T> h;
     h.verdict = Verdict::hit;
     h.t_enter = t_enter;
@@ -33,7 +37,7 @@ template <class T> Hit<T> make_hit(T t_enter, T t_exit, int face) {
 }
 
 // The textbook slab on scalar slabs: origin o_i, direction d_i, slab [lo_i, hi_i].
-template <class T> Hit<T> textbook_slab(const T* o, const T* d, const T* lo, const T* hi, T t_min, T t_max) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> textbook_slab(const T* o, const T* d, const T* lo, const T* hi, T t_min, T t_max) {
     T t_enter = t_min, t_exit = t_max;
     int face = -1;
     for (int i = 0; i < 3; ++i) {
@@ -57,7 +61,7 @@ template <class T> Hit<T> textbook_slab(const T* o, const T* d, const T* lo, con
 template <class T> inline T min_(T a, T b) { return a < b ? a : b; }
 template <class T> inline T max_(T a, T b) { return a > b ? a : b; }
 
-template <class T> Hit<T> branchless_slab(const T* o, const T* d, const T* lo, const T* hi, T t_min, T t_max) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> branchless_slab(const T* o, const T* d, const T* lo, const T* hi, T t_min, T t_max) {
     T t_enter = t_min, t_exit = t_max;
     for (int i = 0; i < 3; ++i) {
         const T inv = T(1) / d[i];
@@ -88,14 +92,14 @@ template <class T> struct ObbFrame {
 };
 
 // ---- textbook ----------------------------------------------------------------------
-template <class T> Hit<T> textbook(const Ray<T>& r, const Aabb<T>& b) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> textbook(const Ray<T>& r, const Aabb<T>& b) {
     return textbook_slab(r.origin.data(), r.direction.data(), b.lo.data(), b.hi.data(), r.t_min, r.t_max);
 }
-template <class T> Hit<T> textbook(const Ray<T>& r, const Obb<T>& b) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> textbook(const Ray<T>& r, const Obb<T>& b) {
     const ObbFrame<T> f(r, b);
     return textbook_slab(f.o, f.d, f.lo, f.hi, r.t_min, r.t_max);
 }
-template <class T> Hit<T> textbook(const Ray<T>& r, const Sphere<T>& s) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> textbook(const Ray<T>& r, const Sphere<T>& s) {
     const Vec3<T> oc = r.origin - s.center;
     const T a = r.direction.dot(r.direction);
     const T b = oc.dot(r.direction);
@@ -109,7 +113,7 @@ template <class T> Hit<T> textbook(const Ray<T>& r, const Sphere<T>& s) {
     if (t_enter > t_exit) return Hit<T>{};
     return make_hit(t_enter, t_exit, -1);
 }
-template <class T> Hit<T> textbook(const Ray<T>& r, const Plane<T>& p) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> textbook(const Ray<T>& r, const Plane<T>& p) {
     const T den = p.normal.dot(r.direction);
     const T num = p.offset - p.normal.dot(r.origin);
     if (den == 0) return num == 0 ? make_hit(r.t_min, r.t_max, -1) : Hit<T>{};
@@ -119,10 +123,10 @@ template <class T> Hit<T> textbook(const Ray<T>& r, const Plane<T>& p) {
 }
 
 // ---- branchless (boxes only) -------------------------------------------------------
-template <class T> Hit<T> branchless(const Ray<T>& r, const Aabb<T>& b) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> branchless(const Ray<T>& r, const Aabb<T>& b) {
     return branchless_slab(r.origin.data(), r.direction.data(), b.lo.data(), b.hi.data(), r.t_min, r.t_max);
 }
-template <class T> Hit<T> branchless(const Ray<T>& r, const Obb<T>& b) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> branchless(const Ray<T>& r, const Obb<T>& b) {
     const ObbFrame<T> f(r, b);
     return branchless_slab(f.o, f.d, f.lo, f.hi, r.t_min, r.t_max);
 }

@@ -102,6 +102,16 @@ void time_scalar(benchmark::State& st, const std::string& key, const std::string
     st.counters["hit_rate"] = double(hits) / double(n);
 }
 
+// Every method is inlined into the timing loop the same way (in a translation unit this
+// large the compiler's own choice differs from method to method, and a Hit returned
+// through memory and copied whole adds a store-forwarding stall to the methods it
+// leaves out of line).
+#if defined(__GNUC__) || defined(__clang__)
+#define RAYPROOF_BENCH_INLINE __attribute__((always_inline))
+#else
+#define RAYPROOF_BENCH_INLINE
+#endif
+
 // Registers the kernel's three modes and the plain baselines for one shape and type.
 template <class T, class Shape> void register_scalar_kernel(std::string_view workload_name) {
     const std::string w(workload_name);
@@ -111,12 +121,12 @@ template <class T, class Shape> void register_scalar_kernel(std::string_view wor
             time_scalar<T, Shape>(st, name, w, options().cases, f);
         });
     };
-    reg("fast", [](const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::fast); });
-    reg("conservative", [](const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::conservative); });
-    reg("certified", [](const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::certified); });
-    reg("textbook", [](const Ray<T>& r, const Shape& s) { return baseline::textbook(r, s); });
+    reg("fast", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::fast); });
+    reg("conservative", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::conservative); });
+    reg("certified", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::certified); });
+    reg("textbook", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return baseline::textbook(r, s); });
     if constexpr (baseline::has_branchless<Shape>)
-        reg("branchless", [](const Ray<T>& r, const Shape& s) { return baseline::branchless(r, s); });
+        reg("branchless", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return baseline::branchless(r, s); });
 }
 
 // The batch sweep: sizes 1, 10, ..., batch_max rays against one shape, in each mode.

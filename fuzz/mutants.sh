@@ -26,7 +26,7 @@ done
 
 # name | target | file | perl substitution (must match exactly once) | what it breaks
 MUTATIONS=(
-  "aabb-no-correction|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/const double t = approx \+ \(se\.lo - mul_sub\(approx, d, se\.hi\)\) \* inv;/const double t = approx;/|certified Aabb t not faithfully rounded (the compensated correction dropped)"
+  "aabb-no-correction|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/const D2 tc = tt \+ \(/const D2 tc = m + splat(0.0) * (/|certified Aabb t not faithfully rounded (the straight-line path's correction dropped)"
   "aabb-filter-no-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/constexpr double K = 2 \* gamma<double>\(3\), eta = 0x1p-1022,/constexpr double K = 0, eta = 0,/|certified Aabb filter without its error bound: every close comparison decided by floating point"
   "aabb-conservative-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/constexpr double K = 2 \* gamma<double>\(3\);/constexpr double K = 0;/|conservative Aabb enclosure without its error bound"
   "aabb-flat-box-invalid|ray_aabb_fuzz|kernel/include/rayproof/detail/validate.hpp|s/b\.lo\[0\] <= b\.hi\[0\]/b.lo[0] < b.hi[0]/|a flat Aabb (lo_0 == hi_0) reported invalid"

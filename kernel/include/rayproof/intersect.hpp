@@ -3,6 +3,7 @@
 // path (detail::query on a prepared shape), so they cannot disagree.
 #pragma once
 
+#include <rayproof/detail/float_util.hpp>
 #include <rayproof/types.hpp>
 
 #include <concepts>
@@ -19,9 +20,11 @@ concept Answerable = is_scalar_v<T> && is_shape_v<Shape, T> && is_mode_v<Mode> &
         { detail::query(r, detail::prepare(s), m) } -> std::same_as<Hit<T>>;
     };
 
+// Inlined into the caller: the Hit then reaches the caller's variable field by field
+// (a Hit returned through memory and copied whole stalls on store-to-load forwarding).
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
-Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode) {
+RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode) {
     return detail::query(ray, detail::prepare(shape), mode);
 }
 

@@ -39,6 +39,7 @@
 //            to nearest float is a faithfully rounded float.
 #pragma once
 
+#include <rayproof/detail/lanes.hpp>
 #include <rayproof/detail/slab_certified.hpp>
 #include <rayproof/detail/slab_fast.hpp>
 #include <rayproof/detail/validate.hpp>
@@ -52,27 +53,9 @@ template <class T> struct PreparedAabb {
 };
 template <class T> PreparedAabb<T> prepare(const Aabb<T>& b) { return {b, valid(b)}; }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, fast_t) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
     return slab_fast(r.origin.data(), r.direction.data(), p.box.lo.data(), p.box.hi.data(), r.t_min, r.t_max);
-}
-
-// x·y - z with one rounding: the fused multiply-add where the target has one, else
-// Dekker's exact product (x·y = ph + pl, Veltkamp splitting; exact when nothing
-// overflows or underflows) followed by (ph - z) - pl, where ph - z is exact
-// (Sterbenz: ph and z are within a factor 2 of each other in the use below) and the
-// last subtraction rounds once.
-RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
-#if defined(__FMA__) || defined(__FP_FAST_FMA)
-    return std::fma(x, y, -z);
-#else
-    constexpr double split = 134217729.0;  // 2^27 + 1
-    const double cx = split * x, cy = split * y;
-    const double xh = cx - (cx - x), xl = x - xh, yh = cy - (cy - y), yl = y - yh;
-    const double ph = x * y;
-    const double pl = ((xh * yh - ph) + xh * yl + xl * yh) + xl * yl;
-    return (ph - z) + pl;
-#endif
 }
 
 // (p - o)/d faithfully rounded to T by one compensated correction of an approximation
@@ -87,6 +70,10 @@ RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
 // faithful_slab_double is the correction in double, branch-free: {t', ok}; ok is false
 // where the conditions above fail. p == o gives exactly +0 (ok). faithful_to rounds it
 // to T.
+RAYPROOF_ALWAYS_INLINE double slab_correction(Pair se, double d, double approx, double inv) {
+    const double t = approx + (se.lo - mul_sub(approx, d, se.hi)) * inv;
+    return t;
+}
 struct FaithfulDouble {
     double t;
     bool ok;
@@ -100,9 +87,8 @@ RAYPROOF_ALWAYS_INLINE FaithfulDouble faithful_slab_double(double p, double o, d
     const bool in_range = int(as >= 0x1p-960) & int(as <= 0x1p1020) & int(at >= 0x1p-960) & int(at <= 0x1p995) &
                           int(ai >= 0x1p-1022) & int(ai <= std::numeric_limits<double>::max()) &
                           int(std::abs(d) <= 0x1p995);
-    const double t = approx + (se.lo - mul_sub(approx, d, se.hi)) * inv;
     const bool zero = se.hi == 0;
-    return {zero ? 0.0 : t, bool(int(in_range) | int(zero))};
+    return {zero ? 0.0 : slab_correction(se, d, approx, inv), bool(int(in_range) | int(zero))};
 }
 // The faithfully rounded double to T: a faithfully rounded double rounded to nearest T
 // is a faithfully rounded T (the two T values enclosing t enclose the double); beyond
@@ -185,96 +171,148 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
     return slab_conservative(AabbFrame<T>(r, p.box), r.t_min, r.t_max);
 }
 
-// The certified answer's common case in straight-line code: the slab values and their
-// error bounds, the entry argmax and exit argmin as in fast mode, checks that the bounds
-// separate every comparison that decided them, and the faithful rounding of the winning
-// entry and exit values. Everything is computed branch-free (the verdict, the winning
-// axes and the signs of d are as random as the rays); one well-predicted branch hands
-// anything the checks cannot vouch for (close values, overflow, extreme exponents) to
-// the general path, slab_certified on AabbFrame, which decides exactly. This one only
-// answers where its decisions are proven, so both give the same answer.
-// Bound: with 1/d normal and finite (|d| in [2^-1022, 2^995]), p - o exact when it is
+// The certified answer's common case in straight-line code, the entry problem in lane 0
+// and the exit problem, negated, in lane 1 of detail/lanes.hpp (the exit is the
+// smallest slab exit, minus it the largest of the negated exits; negation is exact and
+// rounding to nearest is symmetric, so lane 1 computes exactly the negation of the
+// scalar exit code and both lanes look for a maximum).
+// Per axis the two slab values t~ = fl(fl(p - o)·fl(1/d)); the entry is the smaller and
+// the exit the larger (both roundings are monotone and 1/d has the sign of d, so this is
+// the plane entered: lo for d > 0, hi for d < 0). A sorting network gives per lane the
+// largest value m, the runner-up m2 and the smallest m3; the winner's identity is
+// certain when m2's upper bound lies below m's lower bound, because the bounds
+//     lo(v) = v - (K|v| + eta),  hi(v) = v + (K|v| + eta)
+// are increasing in v (slopes 1 ± K > 0): m2's bound is the largest of the losers'. The
+// limit (t_min, or -t_max in lane 1) wins certainly when hi(m) lies below it. The
+// verdict is certain when the entry's and the exit's [lo, hi] are disjoint. A miss
+// needs no winner at all: the exact latest entry is at least max(lo(m), t_min) and the
+// exact earliest exit at most min(hi(exit m), t_max). Then both winners are rounded
+// faithfully by faithful_slab_double's correction, in the two lanes at once.
+// Everything runs branch-free (the verdict, the winning axes and the signs of d are as
+// random as the rays); one well-predicted branch hands anything these checks cannot
+// vouch for (close values, overflow, extreme exponents) to the general path,
+// slab_certified on AabbFrame, which decides exactly. This one only answers where its
+// decisions are proven, so both give the same answer.
+// Bound: with 1/d normal and finite (|d| in [2^-500, 2^500]), p - o exact when it is
 // subnormal, and a subnormal product off by at most 2^-1075, each computed value is
 // within gamma(3)|t| + 2^-1075 of t; the ends t~ ∓ (K|t~| + eta), K = 2·gamma(3),
 // eta = 2^-1022 (the smallest normal: a subnormal constant would slow every query on
 // processors that take an assist on subnormal operands), cover that and their own two
-// roundings (see the header comment). An overflowed value (±inf) makes some check
-// compare a NaN, which fails it.
-template <class T> std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
+// roundings (see the header comment).
+// Overflow: p - o or fl(s·inv) can overflow to ±inf although t is finite. A wrong +inf
+// becomes m and makes lo(m) NaN, which fails every check it enters; a wrong -inf sinks
+// to m3, which a hit checks to be finite (a miss never looks at the losers: its bounds
+// only weaken without them).
+// Faithful rounding: |d| in [2^-500, 2^500] and a winner's |t~| in [2^-400, 2^400] give
+// |s| = |t~·d|(1 ± 2u) in [2^-901, 2^901]: inside every condition of
+// faithful_slab_double's derivation (no overflow, nothing below 2^-960); s == 0 gives
+// the exact t = 0.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
+    using namespace lanes;
     constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
-    // Parallel axes (d_i == ±0), directions whose reciprocal is not a normal double and
-    // directions beyond faithful_slab_double's range go to the general path.
-    const double a0 = std::abs(double(r.direction[0])), a1 = std::abs(double(r.direction[1])),
-                 a2 = std::abs(double(r.direction[2]));
-    if (!(int(std::min(std::min(a0, a1), a2) >= 0x1p-1022) & int(std::max(std::max(a0, a1), a2) <= 0x1p995)))
+    const double d[3] = {double(r.direction[0]), double(r.direction[1]), double(r.direction[2])};
+    const double a0 = std::abs(d[0]), a1 = std::abs(d[1]), a2 = std::abs(d[2]);
+    if (!(int(std::min(std::min(a0, a1), a2) >= 0x1p-500) & int(std::max(std::max(a0, a1), a2) <= 0x1p500)))
         return std::nullopt;
-    // Latest entry (t_min first, strict > keeps the lowest axis on ties), earliest exit,
-    // and the runners-up (the largest value among the entries that did not win, the
-    // smallest among the exits). Per axis, the entry plane is lo for d > 0 and hi for
-    // d < 0 (d != 0 here, and the computed values keep that order: both roundings are
-    // monotone and 1/d has the sign of d).
-    int w = -1, x = -1;
-    double in = r.t_min, out = r.t_max, in2 = -inf, out2 = inf;
-    double finite = 0;  // stays 0 while every slab value is finite, NaN otherwise (x - x)
-    double inv[3], p_in[3], p_out[3], t_in[3], t_out[3];
+    const double inv[3] = {1.0 / d[0], 1.0 / d[1], 1.0 / d[2]};
+    // Per axis (entry, -exit) = min((t_lo, -t_hi), (t_hi, -t_lo)), the slab values
+    // t~ = fl(fl(p - o)·fl(1/d)).
+    D2 V[3];
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC unroll 3
 #elif defined(__clang__)
 #pragma clang loop unroll(full)
 #endif
     for (int i = 0; i < 3; ++i) {
-        const double o = r.origin[i];
-        const bool neg = r.direction[i] < 0;
-        inv[i] = 1.0 / double(r.direction[i]);
-        p_in[i] = pick(neg, double(b.hi[i]), double(b.lo[i]));
-        p_out[i] = pick(neg, double(b.lo[i]), double(b.hi[i]));
-        t_in[i] = (p_in[i] - o) * inv[i];
-        t_out[i] = (p_out[i] - o) * inv[i];
-        // p - o can overflow although (p - o)/d is moderate: such a value must not be
-        // taken for "no constraint".
-        finite += (t_in[i] - t_in[i]) + (t_out[i] - t_out[i]);
-        const bool later = t_in[i] > in, earlier = t_out[i] < out;
-        w += int(later) * (i - w);
-        x += int(earlier) * (i - x);
-        in2 = std::max(in2, std::min(in, t_in[i]));
-        out2 = std::min(out2, std::max(out, t_out[i]));
-        in = t_in[i] > in ? t_in[i] : in;
-        out = t_out[i] < out ? t_out[i] : out;
+        const D2 x = negate_lane1((make(double(b.lo[i]), double(b.hi[i])) - splat(double(r.origin[i]))) * splat(inv[i]));
+        V[i] = min(x, -swap(x));
     }
-    // The winner's bound strictly beyond the runner-up's (a tie fails this and goes to
-    // the exact stage). Bounds are put on t_min and t_max too although they are exact
-    // (fewer branches; it only makes the filter a little more cautious). With every slab
-    // value finite, the runners-up are finite after three axes.
-    const double ein = K * std::abs(in) + eta, eout = K * std::abs(out) + eta;
-    const double in_lo = in - ein, in_hi = in + ein, out_lo = out - eout, out_hi = out + eout;
-    const double in2_hi = in2 + (K * std::abs(in2) + eta), out2_lo = out2 - (K * std::abs(out2) + eta);
-    const bool miss = in_lo > out_hi, hit = in_hi < out_lo;
-    // The faithful entry and exit values, computed on every path (an axis index of -1,
-    // t_min or t_max winning, reads axis 0 and discards the result).
-    const int wi = w & ~(w >> 31), xi = x & ~(x >> 31);
-    const FaithfulDouble fe = faithful_slab_double(p_in[wi], r.origin[wi], r.direction[wi], t_in[wi], inv[wi]);
-    const FaithfulDouble fx = faithful_slab_double(p_out[xi], r.origin[xi], r.direction[xi], t_out[xi], inv[xi]);
-    const bool rounded = int(miss) | ((int(w < 0) | int(fe.ok)) & (int(x < 0) | int(fx.ok)));
-    if (!(int(in2_hi < in_lo) & int(out2_lo > out_hi) & (int(miss) | int(hit)) & int(finite == 0) & int(rounded)))
-        return std::nullopt;
-    const T te = w < 0 ? r.t_min : faithful_to<T>(fe.t);
-    const T tx = x < 0 ? r.t_max : faithful_to<T>(fx.t);
-    Hit<T> h;
-    h.verdict = hit ? Verdict::hit : Verdict::miss;
-    // A miss carries the default fields.
-    h.t_enter = hit ? std::min(te, tx) : T(0);  // min: see slab_certified
-    h.t_exit = hit ? tx : T(0);
-    h.face = hit ? (w < 0 ? -1 : 2 * w + int(r.direction[wi] < 0)) : -1;
-    return h;
+    // m >= m2 >= m3 per lane, and the winning axes (w: entry, v: exit) from the lane
+    // masks with bit arithmetic (ties fail the checks below, so their order does not
+    // matter).
+    const D2 v01 = max(V[0], V[1]), f01 = min(V[0], V[1]);
+    const D2 m = max(v01, V[2]), m2 = max(f01, min(v01, V[2])), m3 = min(f01, V[2]);
+    const int c01 = bits(V[1] > V[0]), c2 = bits(V[2] > v01), c = c01 & ~c2;
+    const int w = (c & 1) | ((c2 & 1) << 1), v = ((c >> 1) & 1) | (c2 & 2);
+    const D2 limit = make(r.t_min, -double(r.t_max));
+    const D2 bm = abs(m) * splat(K) + splat(eta);
+    const D2 m_lo = m - bm, m_hi = m + bm, m2_hi = m2 + (abs(m2) * splat(K) + splat(eta));
+    // Per lane: the axis certainly wins, or the limit certainly does.
+    const M2 axis_wins = (m2_hi < m_lo) & (m_lo > limit), limit_wins = m_hi < limit;
+    // The entry's upper and the exit's lower bound h (max keeps a NaN m_hi), and the
+    // bounds g a miss is judged on (max keeps a NaN m_lo). h0 < -h1 and h1 < -h0 are the
+    // same test, so comparing with -swap gives it in both lanes (and the same for g):
+    // these masks are all-ones or all-zeros.
+    const D2 h = max(limit, m_hi), g = max(limit, m_lo);
+    const M2 hit = (axis_wins | limit_wins) & (m3 > splat(-inf)) & (h < -swap(h)), miss = g > -swap(g);
+    // The winners rounded faithfully, computed on every path (discarded when a limit
+    // wins, or on a miss): lane 0 the plane entered on axis w, lane 1 minus the plane
+    // left on axis v (negated origin and plane: the negated problem), s + e = p - o
+    // exactly (two_sum). t = (s + e)/d and t - tt = (s + e - tt·d)/d for tt = t~ cut to
+    // 26 bits; with d = dh + dl (dh: d cut to 26 bits, dl = d - dh exact, 27 bits) both
+    // tt·dh (52 bits) and tt·dl (53 bits) are exact, and s - tt·dh is exact (Sterbenz:
+    // tt·dh = s(1 ± 2^-23)). The residual ((s - tt·dh) - tt·dl) + e takes two roundings
+    // of quantities below 2^-23|s|, the product with 1/d one more: the correction is off
+    // by less than 2^-70|t|, so RN(tt + correction) is within 2^-18 of a gap from t: one
+    // of the two floats enclosing t, and t itself when it is representable. Needs no
+    // overflow and no underflow: |d| in [2^-500, 2^500] and |t~| in [2^-400, 2^400] give
+    // |s| = |t~·d|(1 ± 2u) in [2^-901, 2^901] and every product and residual normal (or
+    // zero); s == 0 gives the exact ±0.
+    const double d_w = r.direction[w], d_v = r.direction[v];
+    const int neg_w = int(d_w < 0), neg_v = int(d_v < 0);
+    const Vec3<T>& entered = neg_w ? b.hi : b.lo;
+    const Vec3<T>& left = neg_v ? b.lo : b.hi;
+    const Sum2 se = two_sum(make(double(entered[w]), -double(left[v])), make(-double(r.origin[w]), double(r.origin[v])));
+    const D2 dd = make(d_w, d_v), tt = high26(m), dh = high26(dd);
+    const D2 tc = tt + (((se.hi - tt * dh) - tt * (dd - dh)) + se.lo) * make(inv[w], inv[v]);
+    const D2 am = abs(m);
+    const M2 rounded = limit_wins | ((am >= splat(0x1p-400)) & (am <= splat(0x1p400))) | (se.hi == splat(0.0));
+    // One branch on both lanes: a miss, or a hit decided and rounded in both.
+    if (bits(miss | (hit & rounded)) != 3) return std::nullopt;
+    // The winner's value lies above the limit when the axis wins (its faithful rounding
+    // too: the limit is a float) and below it when the limit wins, so max(tc, limit)
+    // selects without a branch (a NaN tc gives the limit). Then (t_enter, t_exit) with
+    // + 0.0 making an exact zero +0, t_enter = min(t_enter, t_exit) (see slab_certified;
+    // rounding to T is monotone, so the min may come first), and both +0 on a miss (its
+    // default fields).
+    const D2 u = negate_lane1(max(tc, limit)) + splat(0.0);
+    const D2 t = keep(hit, low_high(min(u, swap(u)), u));
+    const bool is_hit = bits(hit) == 3;
+    Hit<T> out;
+    out.verdict = Verdict(int(is_hit));
+    static_assert(int(Verdict::miss) == 0 && int(Verdict::hit) == 1);
+    out.t_enter = faithful_to<T>(lane0(t));
+    out.t_exit = faithful_to<T>(lane1(t));
+    out.face = (2 * w + neg_w) | -int(int(bits(limit_wins) & 1) | int(!is_hit));
+    return out;
 }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
+// The general path, out of line: it is rare, and inlined it would make every query pay
+// for its stack frame.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_general(const Ray<T>& r, const Aabb<T>& b) {
+    return slab_certified(AabbFrame<T>(r, b), r.t_min, r.t_max);
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
+    // Both paths meet in the four fields, not in a Hit: a Hit in memory written field by
+    // field and copied whole stalls on store-to-load forwarding.
+    Verdict verdict;
+    T t_enter, t_exit;
+    int face;
     if (const std::optional<Hit<T>> h = aabb_certified_common(r, p.box)) {
         RAYPROOF_COUNT_QUERY();
-        return *h;
+        verdict = h->verdict, t_enter = h->t_enter, t_exit = h->t_exit, face = h->face;
+    } else {
+        const Hit<T> g = aabb_certified_general(r, p.box);
+        verdict = g.verdict, t_enter = g.t_enter, t_exit = g.t_exit, face = g.face;
     }
-    return slab_certified(AabbFrame<T>(r, p.box), r.t_min, r.t_max);
+    Hit<T> out;
+    out.verdict = verdict;
+    out.t_enter = t_enter;
+    out.t_exit = t_exit;
+    out.face = face;
+    return out;
 }
 
 }  // namespace rayproof::detail

@@ -45,7 +45,7 @@ template <class T> struct PreparedObb {
 };
 template <class T> PreparedObb<T> prepare(const Obb<T>& b) { return {b, -b.half_extent, b.half_extent, valid(b)}; }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, fast_t) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
     const Vec3<T> o = p.box.axes.transpose() * (r.origin - p.box.center);
     const Vec3<T> d = p.box.axes.transpose() * r.direction;

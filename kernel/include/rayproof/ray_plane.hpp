@@ -40,7 +40,7 @@ template <class T> struct PreparedPlane {
 };
 template <class T> PreparedPlane<T> prepare(const Plane<T>& p) { return {p, valid(p)}; }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, fast_t) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
     const T den = p.plane.normal.dot(r.direction);
     const T num = p.plane.offset - p.plane.normal.dot(r.origin);

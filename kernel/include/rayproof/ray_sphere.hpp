@@ -57,7 +57,7 @@ template <class T> struct PreparedSphere {
 };
 template <class T> PreparedSphere<T> prepare(const Sphere<T>& s) { return {s, valid(s)}; }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, fast_t) {
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
     const Vec3<T>& d = r.direction;
     const Vec3<T> delta = r.origin - p.sphere.center;

@@ -15,6 +15,7 @@
 // and signbit(-0) is set, so the entry plane is hi, consistent with the NaN rule.
 #pragma once
 
+#include <rayproof/detail/float_util.hpp>
 #include <rayproof/types.hpp>
 
 #include <bit>
@@ -37,7 +38,7 @@ template <class T> inline T pick(bool first, T a, T b) {
 }
 
 template <class T>
-Hit<T> slab_fast(const T* o, const T* d, const T* lo, const T* hi, T t_min, T t_max) {
+RAYPROOF_ALWAYS_INLINE Hit<T> slab_fast(const T* o, const T* d, const T* lo, const T* hi, T t_min, T t_max) {
     T t_enter = t_min, t_exit = t_max;
     int face = -1;
     for (int i = 0; i < 3; ++i) {

@@ -1,0 +1,159 @@
+// rayproof/detail/lanes.hpp — two doubles computed side by side, for the certified
+// box path, which runs the entry and the (negated) exit problem in the two lanes.
+//
+// Each operation is the correctly rounded IEEE operation on each lane, so a lane
+// computes exactly what the same scalar code computes: on x86-64 with SSE2 (every
+// x86-64 processor) one instruction does both lanes, elsewhere two scalar operations
+// do. min and max follow the SSE rule on both: min(a, b) = a < b ? a : b and max(a, b)
+// = a > b ? a : b, so a NaN in either operand gives b. Comparisons are ordered (false
+// on a NaN) and give a lane mask whose bits() are bit 0 for lane 0, bit 1 for lane 1.
+#pragma once
+
+#include <rayproof/detail/float_util.hpp>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+
+#if defined(__SSE2__) || defined(_M_X64)
+#include <emmintrin.h>
+#define RAYPROOF_LANES_SSE2 1
+#if defined(__FMA__)
+#include <immintrin.h>
+#endif
+#endif
+
+namespace rayproof::detail {
+
+// x·y - z with one rounding, in the form without a fused multiply-add: Dekker's exact
+// product (x·y = ph + pl, Veltkamp splitting with split = 2^27 + 1; exact when nothing
+// overflows or underflows) followed by (ph - z) + pl, where ph - z is exact (Sterbenz:
+// ph and z are within a factor 2 of each other in the uses here) and the last
+// subtraction rounds once. V is double or a lanes::D2 (the same operations per lane).
+template <class V> RAYPROOF_ALWAYS_INLINE V dekker_mul_sub(V x, V y, V z, V split) {
+    const V cx = split * x, cy = split * y;
+    const V xh = cx - (cx - x), xl = x - xh, yh = cy - (cy - y), yl = y - yh;
+    const V ph = x * y;
+    const V pl = ((xh * yh - ph) + xh * yl + xl * yh) + xl * yl;
+    return (ph - z) + pl;
+}
+
+// x·y - z with one rounding: the fused multiply-add where the target has one.
+RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
+#if defined(__FMA__) || defined(__FP_FAST_FMA)
+    return std::fma(x, y, -z);
+#else
+    return dekker_mul_sub(x, y, z, 134217729.0);
+#endif
+}
+
+}  // namespace rayproof::detail
+
+namespace rayproof::detail::lanes {
+
+#if defined(RAYPROOF_LANES_SSE2)
+
+struct D2 {
+    __m128d v;
+};
+struct M2 {
+    __m128d v;
+};
+RAYPROOF_ALWAYS_INLINE D2 make(double lane0, double lane1) { return {_mm_set_pd(lane1, lane0)}; }
+RAYPROOF_ALWAYS_INLINE D2 splat(double x) { return {_mm_set1_pd(x)}; }
+RAYPROOF_ALWAYS_INLINE double lane0(D2 a) { return _mm_cvtsd_f64(a.v); }
+RAYPROOF_ALWAYS_INLINE double lane1(D2 a) { return _mm_cvtsd_f64(_mm_unpackhi_pd(a.v, a.v)); }
+RAYPROOF_ALWAYS_INLINE D2 swap(D2 a) { return {_mm_shuffle_pd(a.v, a.v, 1)}; }
+// (lane 0 of a, lane 1 of b).
+RAYPROOF_ALWAYS_INLINE D2 low_high(D2 a, D2 b) { return {_mm_shuffle_pd(a.v, b.v, 2)}; }
+RAYPROOF_ALWAYS_INLINE D2 operator+(D2 a, D2 b) { return {_mm_add_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE D2 operator-(D2 a, D2 b) { return {_mm_sub_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE D2 operator*(D2 a, D2 b) { return {_mm_mul_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE D2 min(D2 a, D2 b) { return {_mm_min_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE D2 max(D2 a, D2 b) { return {_mm_max_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE D2 abs(D2 a) { return {_mm_andnot_pd(_mm_set1_pd(-0.0), a.v)}; }
+// Lane 1 negated, both lanes negated (exact).
+RAYPROOF_ALWAYS_INLINE D2 negate_lane1(D2 a) { return {_mm_xor_pd(a.v, _mm_set_pd(-0.0, 0.0))}; }
+RAYPROOF_ALWAYS_INLINE D2 operator-(D2 a) { return {_mm_xor_pd(a.v, _mm_set1_pd(-0.0))}; }
+RAYPROOF_ALWAYS_INLINE M2 operator<(D2 a, D2 b) { return {_mm_cmplt_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE M2 operator>(D2 a, D2 b) { return {_mm_cmpgt_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE M2 operator<=(D2 a, D2 b) { return {_mm_cmple_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE M2 operator>=(D2 a, D2 b) { return {_mm_cmpge_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE M2 operator==(D2 a, D2 b) { return {_mm_cmpeq_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE M2 operator&(M2 a, M2 b) { return {_mm_and_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE M2 operator|(M2 a, M2 b) { return {_mm_or_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE int bits(M2 a) { return _mm_movemask_pd(a.v); }
+// The significand cut to its leading 26 bits (the last 27 stored bits cleared): exact
+// truncation towards zero, |a - high26(a)| < 2^-25 |a| for normal a.
+RAYPROOF_ALWAYS_INLINE D2 high26(D2 a) { return {_mm_and_pd(a.v, _mm_castsi128_pd(_mm_set1_epi64x(~std::int64_t(0x7ffffff))))}; }
+// The lanes where the mask is set, +0 elsewhere.
+RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 a) { return {_mm_and_pd(m.v, a.v)}; }
+// a where the mask is set, b elsewhere (bitwise: NaNs pass unchanged).
+RAYPROOF_ALWAYS_INLINE D2 select(M2 m, D2 a, D2 b) { return {_mm_or_pd(_mm_and_pd(m.v, a.v), _mm_andnot_pd(m.v, b.v))}; }
+RAYPROOF_ALWAYS_INLINE M2 select(M2 m, M2 a, M2 b) { return {_mm_or_pd(_mm_and_pd(m.v, a.v), _mm_andnot_pd(m.v, b.v))}; }
+RAYPROOF_ALWAYS_INLINE M2 splat_mask(bool x) { return {_mm_castsi128_pd(_mm_set1_epi64x(-std::int64_t(x)))}; }
+// x·y − z with one rounding per lane (see mul_sub above).
+RAYPROOF_ALWAYS_INLINE D2 mul_sub(D2 x, D2 y, D2 z) {
+#if defined(__FMA__)
+    return {_mm_fmsub_pd(x.v, y.v, z.v)};
+#else
+    return dekker_mul_sub(x, y, z, D2{_mm_set1_pd(134217729.0)});
+#endif
+}
+
+#else  // two scalars, the same semantics lane by lane
+
+struct D2 {
+    double a, b;
+};
+struct M2 {
+    bool a, b;
+};
+RAYPROOF_ALWAYS_INLINE D2 make(double lane0, double lane1) { return {lane0, lane1}; }
+RAYPROOF_ALWAYS_INLINE D2 splat(double x) { return {x, x}; }
+RAYPROOF_ALWAYS_INLINE double lane0(D2 x) { return x.a; }
+RAYPROOF_ALWAYS_INLINE double lane1(D2 x) { return x.b; }
+RAYPROOF_ALWAYS_INLINE D2 swap(D2 x) { return {x.b, x.a}; }
+RAYPROOF_ALWAYS_INLINE D2 low_high(D2 x, D2 y) { return {x.a, y.b}; }
+RAYPROOF_ALWAYS_INLINE D2 operator+(D2 x, D2 y) { return {x.a + y.a, x.b + y.b}; }
+RAYPROOF_ALWAYS_INLINE D2 operator-(D2 x, D2 y) { return {x.a - y.a, x.b - y.b}; }
+RAYPROOF_ALWAYS_INLINE D2 operator*(D2 x, D2 y) { return {x.a * y.a, x.b * y.b}; }
+RAYPROOF_ALWAYS_INLINE D2 min(D2 x, D2 y) { return {x.a < y.a ? x.a : y.a, x.b < y.b ? x.b : y.b}; }
+RAYPROOF_ALWAYS_INLINE D2 max(D2 x, D2 y) { return {x.a > y.a ? x.a : y.a, x.b > y.b ? x.b : y.b}; }
+RAYPROOF_ALWAYS_INLINE D2 abs(D2 x) { return {std::abs(x.a), std::abs(x.b)}; }
+RAYPROOF_ALWAYS_INLINE D2 negate_lane1(D2 x) { return {x.a, -x.b}; }
+RAYPROOF_ALWAYS_INLINE D2 operator-(D2 x) { return {-x.a, -x.b}; }
+RAYPROOF_ALWAYS_INLINE M2 operator<(D2 x, D2 y) { return {x.a < y.a, x.b < y.b}; }
+RAYPROOF_ALWAYS_INLINE M2 operator>(D2 x, D2 y) { return {x.a > y.a, x.b > y.b}; }
+RAYPROOF_ALWAYS_INLINE M2 operator<=(D2 x, D2 y) { return {x.a <= y.a, x.b <= y.b}; }
+RAYPROOF_ALWAYS_INLINE M2 operator>=(D2 x, D2 y) { return {x.a >= y.a, x.b >= y.b}; }
+RAYPROOF_ALWAYS_INLINE M2 operator==(D2 x, D2 y) { return {x.a == y.a, x.b == y.b}; }
+RAYPROOF_ALWAYS_INLINE M2 operator&(M2 x, M2 y) { return {x.a && y.a, x.b && y.b}; }
+RAYPROOF_ALWAYS_INLINE M2 operator|(M2 x, M2 y) { return {x.a || y.a, x.b || y.b}; }
+RAYPROOF_ALWAYS_INLINE int bits(M2 x) { return int(x.a) | (int(x.b) << 1); }
+RAYPROOF_ALWAYS_INLINE double high26(double a) {
+    return std::bit_cast<double>(std::bit_cast<std::uint64_t>(a) & ~std::uint64_t(0x7ffffff));
+}
+RAYPROOF_ALWAYS_INLINE D2 high26(D2 x) { return {high26(x.a), high26(x.b)}; }
+RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 x) { return {m.a ? x.a : 0.0, m.b ? x.b : 0.0}; }
+RAYPROOF_ALWAYS_INLINE D2 select(M2 m, D2 x, D2 y) { return {m.a ? x.a : y.a, m.b ? x.b : y.b}; }
+RAYPROOF_ALWAYS_INLINE M2 select(M2 m, M2 x, M2 y) { return {m.a ? x.a : y.a, m.b ? x.b : y.b}; }
+RAYPROOF_ALWAYS_INLINE M2 splat_mask(bool x) { return {x, x}; }
+RAYPROOF_ALWAYS_INLINE D2 mul_sub(D2 x, D2 y, D2 z) {
+    return {detail::mul_sub(x.a, y.a, z.a), detail::mul_sub(x.b, y.b, z.b)};
+}
+
+#endif
+
+// Knuth's TwoSum on each lane (see two_sum in exact.hpp): hi + lo == a + b exactly.
+struct Sum2 {
+    D2 hi, lo;
+};
+RAYPROOF_ALWAYS_INLINE Sum2 two_sum(D2 a, D2 b) {
+    const D2 s = a + b;
+    const D2 bv = s - a;
+    const D2 av = s - bv;
+    return {s, (a - av) + (b - bv)};
+}
+
+}  // namespace rayproof::detail::lanes
