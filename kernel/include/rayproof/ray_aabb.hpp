@@ -210,21 +210,29 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
     using namespace lanes;
     constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
-    const double d[3] = {double(r.direction[0]), double(r.direction[1]), double(r.direction[2])};
-    const double a0 = std::abs(d[0]), a1 = std::abs(d[1]), a2 = std::abs(d[2]);
-    if (!(int(std::min(std::min(a0, a1), a2) >= 0x1p-500) & int(std::max(std::max(a0, a1), a2) <= 0x1p500)))
-        return std::nullopt;
-    const double inv[3] = {1.0 / d[0], 1.0 / d[1], 1.0 / d[2]};
+    // 1/d for the three axes (axes 0 and 1 in one division), and whether every |d_i| is
+    // in [2^-500, 2^500]; outside it (d_i == ±0 included) the values below are
+    // meaningless, and the final check sends the query to the general path.
+    const D2 d01 = make(double(r.direction[0]), double(r.direction[1])), d22 = splat(double(r.direction[2]));
+    const D2 inv01 = splat(1.0) / d01, inv22 = splat(1.0) / d22;
+    const M2 d_in_range = (min(abs(d01), abs(d22)) >= splat(0x1p-500)) & (max(abs(d01), abs(d22)) <= splat(0x1p500));
+    const double inv[3] = {lane0(inv01), lane1(inv01), lane0(inv22)};
     // Per axis (entry, -exit) = min((t_lo, -t_hi), (t_hi, -t_lo)), the slab values
-    // t~ = fl(fl(p - o)·fl(1/d)).
+    // t~ = fl(fl(p - o)·fl(1/d)); (lo - o, o - hi) is (t_lo, -t_hi)·d exactly as
+    // rounded, rounding to nearest being symmetric.
     D2 V[3];
+    double s_[6], e_[6];
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC unroll 3
 #elif defined(__clang__)
 #pragma clang loop unroll(full)
 #endif
     for (int i = 0; i < 3; ++i) {
-        const D2 x = negate_lane1((make(double(b.lo[i]), double(b.hi[i])) - splat(double(r.origin[i]))) * splat(inv[i]));
+        const double o = r.origin[i];
+        const Sum2 se = two_sum(make(double(b.lo[i]), o), -make(o, double(b.hi[i])));
+        store(s_ + 2 * i, se.hi);
+        store(e_ + 2 * i, se.lo);
+        const D2 x = se.hi * splat(inv[i]);
         V[i] = min(x, -swap(x));
     }
     // m >= m2 >= m3 per lane, and the winning axes (w: entry, v: exit) from the lane
@@ -258,17 +266,20 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_c
     // overflow and no underflow: |d| in [2^-500, 2^500] and |t~| in [2^-400, 2^400] give
     // |s| = |t~·d|(1 ± 2u) in [2^-901, 2^901] and every product and residual normal (or
     // zero); s == 0 gives the exact ±0.
-    const double d_w = r.direction[w], d_v = r.direction[v];
-    const int neg_w = int(d_w < 0), neg_v = int(d_v < 0);
-    const Vec3<T>& entered = neg_w ? b.hi : b.lo;
-    const Vec3<T>& left = neg_v ? b.lo : b.hi;
-    const Sum2 se = two_sum(make(double(entered[w]), -double(left[v])), make(-double(r.origin[w]), double(r.origin[v])));
+    const double d_w = double(r.direction[w]), d_v = double(r.direction[v]);
+    const int negative = bits(d01 < splat(0.0)) | (bits(d22 < splat(0.0)) & 1) << 2;  // bit i: d_i < 0
+    const int neg_w = (negative >> w) & 1, neg_v = (negative >> v) & 1;
+    // s_ and e_ hold (lo - o, o - hi) per axis and their errors: the entry lane wants
+    // p - o, the exit lane o - p, so the value taken is negated where the plane is hi
+    // for the entry (d_w < 0) and lo for the exit (d_v < 0): by the signs of d.
     const D2 dd = make(d_w, d_v), tt = high26(m), dh = high26(dd);
-    const D2 tc = tt + (((se.hi - tt * dh) - tt * (dd - dh)) + se.lo) * make(inv[w], inv[v]);
+    const int entered = 2 * w + neg_w, left = 2 * v + 1 - neg_v;
+    const Sum2 se = {times_sign(make(s_[entered], s_[left]), dd), times_sign(make(e_[entered], e_[left]), dd)};
+    const D2 tc = tt + ((se.hi - tt * dh) + (se.lo - tt * (dd - dh))) * make(inv[w], inv[v]);
     const D2 am = abs(m);
     const M2 rounded = limit_wins | ((am >= splat(0x1p-400)) & (am <= splat(0x1p400))) | (se.hi == splat(0.0));
     // One branch on both lanes: a miss, or a hit decided and rounded in both.
-    if (bits(miss | (hit & rounded)) != 3) return std::nullopt;
+    if (bits(d_in_range & (miss | (hit & rounded))) != 3) return std::nullopt;
     // The winner's value lies above the limit when the axis wins (its faithful rounding
     // too: the limit is a float) and below it when the limit wins, so max(tc, limit)
     // selects without a branch (a NaN tc gives the limit). Then (t_enter, t_exit) with
