@@ -26,15 +26,21 @@
 //            Parallel axes are decided exactly (comparisons of floats).
 //            certified — the same enclosures decide every comparison they separate;
 //            overlapping ones are decided by exact arithmetic (detail/exact.hpp). The
-//            winning slab value (p - o)/d is rounded faithfully by one compensated
-//            correction of its approximation t~: s + e = p - o exactly (two_sum),
-//            t' = fl(t~ + fl(fl(e - fl(t~·d - s))·fl(1/d))); the correction is off by a
-//            tiny fraction of a gap, so t' is one of the two floats enclosing t and is
-//            t when t is representable (faithful_slab_value has the derivation). Valid
-//            while |s|, |t~| >= 2^-960 (nothing underflows); otherwise exact
-//            arithmetic decides. The common case runs as straight-line code
-//            (aabb_certified_common) and hands anything it cannot prove to the general
-//            path.
+//            common case runs as straight-line code (aabb_certified_common): the entry
+//            and the negated exit problem side by side in two lanes
+//            (detail/lanes.hpp), the winners' identity and the verdict proven by the
+//            enclosures, and each winning slab value (p - o)/d rounded faithfully by
+//            one correction of its approximation t~: with s + e = p - o exactly
+//            (two_sum), tt = t~ cut to 26 bits and d = dh + dl cut the same way, the
+//            products tt·dh and tt·dl are exact and t' = fl(tt + fl(fl(fl(s - tt·dh)
+//            + fl(e - tt·dl))·fl(1/d))) is one of the two floats enclosing t, and t
+//            itself when t is representable (the derivation is at the code). It
+//            answers for |d_i| in [2^-500, 2^500] and winners |t~| in [2^-400, 2^400]
+//            (or t == 0) and hands everything else, and every comparison its
+//            enclosures cannot separate, to the general path (slab_certified on
+//            AabbFrame), whose faithful rounding is the compensated correction of
+//            faithful_slab_value (valid while |s|, |t~| >= 2^-960) and exact
+//            arithmetic beyond.
 //            For float, every step runs in double: a faithfully rounded double rounded
 //            to nearest float is a faithfully rounded float.
 #pragma once
@@ -56,6 +62,24 @@ template <class T> PreparedAabb<T> prepare(const Aabb<T>& b) { return {b, valid(
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
     return slab_fast(r.origin.data(), r.direction.data(), p.box.lo.data(), p.box.hi.data(), r.t_min, r.t_max);
+}
+
+// x·y - z with one rounding: the fused multiply-add where the target has one, else
+// Dekker's exact product (x·y = ph + pl, Veltkamp splitting; exact when nothing
+// overflows or underflows) followed by (ph - z) + pl, where ph - z is exact
+// (Sterbenz: ph and z are within a factor 2 of each other in the use below) and the
+// last subtraction rounds once.
+RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
+#if defined(__FMA__) || defined(__FP_FAST_FMA)
+    return std::fma(x, y, -z);
+#else
+    constexpr double split = 134217729.0;  // 2^27 + 1
+    const double cx = split * x, cy = split * y;
+    const double xh = cx - (cx - x), xl = x - xh, yh = cy - (cy - y), yl = y - yh;
+    const double ph = x * y;
+    const double pl = ((xh * yh - ph) + xh * yl + xl * yh) + xl * yl;
+    return (ph - z) + pl;
+#endif
 }
 
 // (p - o)/d faithfully rounded to T by one compensated correction of an approximation
@@ -254,17 +278,18 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_c
     const D2 h = max(limit, m_hi), g = max(limit, m_lo);
     const M2 hit = (axis_wins | limit_wins) & (m3 > splat(-inf)) & (h < -swap(h)), miss = g > -swap(g);
     // The winners rounded faithfully, computed on every path (discarded when a limit
-    // wins, or on a miss): lane 0 the plane entered on axis w, lane 1 minus the plane
-    // left on axis v (negated origin and plane: the negated problem), s + e = p - o
-    // exactly (two_sum). t = (s + e)/d and t - tt = (s + e - tt·d)/d for tt = t~ cut to
-    // 26 bits; with d = dh + dl (dh: d cut to 26 bits, dl = d - dh exact, 27 bits) both
-    // tt·dh (52 bits) and tt·dl (53 bits) are exact, and s - tt·dh is exact (Sterbenz:
-    // tt·dh = s(1 ± 2^-23)). The residual ((s - tt·dh) - tt·dl) + e takes two roundings
-    // of quantities below 2^-23|s|, the product with 1/d one more: the correction is off
-    // by less than 2^-70|t|, so RN(tt + correction) is within 2^-18 of a gap from t: one
-    // of the two floats enclosing t, and t itself when it is representable. Needs no
-    // overflow and no underflow: |d| in [2^-500, 2^500] and |t~| in [2^-400, 2^400] give
-    // |s| = |t~·d|(1 ± 2u) in [2^-901, 2^901] and every product and residual normal (or
+    // wins, or on a miss): lane 0 the plane entered on axis w, lane 1 the plane left on
+    // axis v in the negated problem (o - p). With s + e = p - o exactly (two_sum),
+    // t = (s + e)/d and t - tt = (s + e - tt·d)/d for tt = t~ cut to 26 bits (|tt - t~|
+    // < 2^-25|t~|). With d = dh + dl (dh: d cut to 26 bits, dl = d - dh exact, at most
+    // 27 bits) the products tt·dh (52 bits) and tt·dl (53 bits) are exact, and
+    // s - tt·dh is exact by Sterbenz (tt·dh = s(1 ± 2^-23)). e - tt·dl (both below
+    // 2^-24|s|) and the sum of the two (below 2^-22|s|) round once each, the product
+    // with fl(1/d) twice more: the correction is off by less than 2^-72|t|, so
+    // RN(tt + correction) lies within 2^-19 of a gap from t: one of the two floats
+    // enclosing t, and t itself when it is representable. This needs no overflow and no
+    // underflow: |d| in [2^-500, 2^500] and |t~| in [2^-400, 2^400] give |s| =
+    // |t~·d|(1 ± 2u) in [2^-901, 2^901] and every product and partial sum normal (or
     // zero); s == 0 gives the exact ±0.
     const double d_w = double(r.direction[w]), d_v = double(r.direction[v]);
     const int negative = bits(d01 < splat(0.0)) | (bits(d22 < splat(0.0)) & 1) << 2;  // bit i: d_i < 0

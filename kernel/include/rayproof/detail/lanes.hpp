@@ -1,5 +1,6 @@
 // rayproof/detail/lanes.hpp — two doubles computed side by side, for the certified
-// box path, which runs the entry and the (negated) exit problem in the two lanes.
+// box path, which runs the entry and the (negated) exit problem in the two lanes
+// (ray_aabb.hpp, aabb_certified_common).
 //
 // Each operation is the correctly rounded IEEE operation on each lane, so a lane
 // computes exactly what the same scalar code computes: on x86-64 with SSE2 (every
@@ -18,36 +19,7 @@
 #if defined(__SSE2__) || defined(_M_X64)
 #include <emmintrin.h>
 #define RAYPROOF_LANES_SSE2 1
-#if defined(__FMA__)
-#include <immintrin.h>
 #endif
-#endif
-
-namespace rayproof::detail {
-
-// x·y - z with one rounding, in the form without a fused multiply-add: Dekker's exact
-// product (x·y = ph + pl, Veltkamp splitting with split = 2^27 + 1; exact when nothing
-// overflows or underflows) followed by (ph - z) + pl, where ph - z is exact (Sterbenz:
-// ph and z are within a factor 2 of each other in the uses here) and the last
-// subtraction rounds once. V is double or a lanes::D2 (the same operations per lane).
-template <class V> RAYPROOF_ALWAYS_INLINE V dekker_mul_sub(V x, V y, V z, V split) {
-    const V cx = split * x, cy = split * y;
-    const V xh = cx - (cx - x), xl = x - xh, yh = cy - (cy - y), yl = y - yh;
-    const V ph = x * y;
-    const V pl = ((xh * yh - ph) + xh * yl + xl * yh) + xl * yl;
-    return (ph - z) + pl;
-}
-
-// x·y - z with one rounding: the fused multiply-add where the target has one.
-RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
-#if defined(__FMA__) || defined(__FP_FAST_FMA)
-    return std::fma(x, y, -z);
-#else
-    return dekker_mul_sub(x, y, z, 134217729.0);
-#endif
-}
-
-}  // namespace rayproof::detail
 
 namespace rayproof::detail::lanes {
 
@@ -92,18 +64,6 @@ RAYPROOF_ALWAYS_INLINE int bits(M2 a) { return _mm_movemask_pd(a.v); }
 RAYPROOF_ALWAYS_INLINE D2 high26(D2 a) { return {_mm_and_pd(a.v, _mm_castsi128_pd(_mm_set1_epi64x(~std::int64_t(0x7ffffff))))}; }
 // The lanes where the mask is set, +0 elsewhere.
 RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 a) { return {_mm_and_pd(m.v, a.v)}; }
-// a where the mask is set, b elsewhere (bitwise: NaNs pass unchanged).
-RAYPROOF_ALWAYS_INLINE D2 select(M2 m, D2 a, D2 b) { return {_mm_or_pd(_mm_and_pd(m.v, a.v), _mm_andnot_pd(m.v, b.v))}; }
-RAYPROOF_ALWAYS_INLINE M2 select(M2 m, M2 a, M2 b) { return {_mm_or_pd(_mm_and_pd(m.v, a.v), _mm_andnot_pd(m.v, b.v))}; }
-RAYPROOF_ALWAYS_INLINE M2 splat_mask(bool x) { return {_mm_castsi128_pd(_mm_set1_epi64x(-std::int64_t(x)))}; }
-// x·y − z with one rounding per lane (see mul_sub above).
-RAYPROOF_ALWAYS_INLINE D2 mul_sub(D2 x, D2 y, D2 z) {
-#if defined(__FMA__)
-    return {_mm_fmsub_pd(x.v, y.v, z.v)};
-#else
-    return dekker_mul_sub(x, y, z, D2{_mm_set1_pd(134217729.0)});
-#endif
-}
 
 #else  // two scalars, the same semantics lane by lane
 
@@ -145,12 +105,6 @@ RAYPROOF_ALWAYS_INLINE double high26(double a) {
 }
 RAYPROOF_ALWAYS_INLINE D2 high26(D2 x) { return {high26(x.a), high26(x.b)}; }
 RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 x) { return {m.a ? x.a : 0.0, m.b ? x.b : 0.0}; }
-RAYPROOF_ALWAYS_INLINE D2 select(M2 m, D2 x, D2 y) { return {m.a ? x.a : y.a, m.b ? x.b : y.b}; }
-RAYPROOF_ALWAYS_INLINE M2 select(M2 m, M2 x, M2 y) { return {m.a ? x.a : y.a, m.b ? x.b : y.b}; }
-RAYPROOF_ALWAYS_INLINE M2 splat_mask(bool x) { return {x, x}; }
-RAYPROOF_ALWAYS_INLINE D2 mul_sub(D2 x, D2 y, D2 z) {
-    return {detail::mul_sub(x.a, y.a, z.a), detail::mul_sub(x.b, y.b, z.b)};
-}
 
 #endif
 
