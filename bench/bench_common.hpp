@@ -5,6 +5,9 @@
 //                                                       own shape; items = queries
 //   batch/<shape>/<float|double>/<mode>/<rays>          intersect(span, shape, mode, out)
 //                                                       on one shape; items = rays
+//   paired/<shape>/<float|double>/uniform/certified_over_fast
+//                                                       the ratio certified / fast measured
+//                                                       in pairs (counter "ratio")
 // Methods: the kernel's modes fast, conservative, certified; the baselines textbook,
 // branchless (boxes), cgal_epeck, cgal_rational (Aabb, Plane, Sphere), embree and
 // embree_robust (Sphere<float>).
@@ -20,6 +23,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -112,6 +117,45 @@ void time_scalar(benchmark::State& st, const std::string& key, const std::string
 #define RAYPROOF_BENCH_INLINE
 #endif
 
+// certified / fast measured in pairs: each iteration times one pass of fast and then one
+// pass of certified over the same uniform cases, back to back, and keeps the ratio of
+// the two; the counter "ratio" is the median over the iterations. On a machine whose
+// speed changes between repetitions (a shared host, frequency steps) two independent
+// medians can each land in a different state; a pass takes well under a millisecond,
+// so both halves of a pair see the same one. The benchmark's own time is that of both
+// passes and is not reported.
+template <class T, class Shape> void time_paired(benchmark::State& st) {
+    const auto& all = timed_cases<T, Shape>("uniform");
+    const std::size_t n = std::min(options().cases, all.size());
+    auto fast_query = [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::fast); };
+    auto certified_query = [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE {
+        return intersect(r, s, rayproof::certified);
+    };
+    // The scalar benchmarks' check passes (the same keys: each runs once).
+    const auto checked = [&](const char* mode, auto query) {
+        return passes_watchdog(st, bench_name<T, Shape>("scalar", "uniform", mode), n,
+                               [&](std::size_t i) { benchmark::DoNotOptimize(query(all[i].ray, all[i].shape)); });
+    };
+    if (!checked("fast", fast_query) || !checked("certified", certified_query)) return;
+    std::vector<Hit<T>> out(n);
+    auto pass = [&](auto query) {
+        const auto start = std::chrono::steady_clock::now();
+        for (std::size_t i = 0; i < n; ++i) out[i] = query(all[i].ray, all[i].shape);
+        benchmark::DoNotOptimize(out.data());
+        benchmark::ClobberMemory();
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    };
+    std::vector<double> ratios;
+    for (auto _ : st) {
+        const double f = pass(fast_query);
+        const double c = pass(certified_query);
+        ratios.push_back(c / f);
+    }
+    std::nth_element(ratios.begin(), ratios.begin() + std::ptrdiff_t(ratios.size() / 2), ratios.end());
+    st.counters["ratio"] = ratios.empty() ? 0.0 : ratios[ratios.size() / 2];
+    st.counters["cases"] = double(n);
+}
+
 // Registers the kernel's three modes and the plain baselines for one shape and type.
 template <class T, class Shape> void register_scalar_kernel(std::string_view workload_name) {
     const std::string w(workload_name);
@@ -166,6 +210,10 @@ template <class T, class Shape> void register_batch() {
 
 // Every workload of the shape, scalar and batch, in float and double.
 template <template <class> class S> void register_shape() {
+    benchmark::RegisterBenchmark(bench_name<double, S<double>>("paired", "uniform", "certified_over_fast").c_str(),
+                                 [](benchmark::State& st) { time_paired<double, S<double>>(st); });
+    benchmark::RegisterBenchmark(bench_name<float, S<float>>("paired", "uniform", "certified_over_fast").c_str(),
+                                 [](benchmark::State& st) { time_paired<float, S<float>>(st); });
     for (const std::string_view w : kWorkloads) {
         if (!has_workload<S<float>>(w)) continue;
         register_scalar_kernel<double, S<double>>(w);
