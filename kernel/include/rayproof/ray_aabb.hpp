@@ -253,7 +253,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_c
 #endif
     for (int i = 0; i < 3; ++i) {
         const double o = r.origin[i];
-        const Sum2 se = two_sum(make(double(b.lo[i]), o), -make(o, double(b.hi[i])));
+        const SumOf<D2> se = two_sum(make(double(b.lo[i]), o), -make(o, double(b.hi[i])));
         store(s_ + 2 * i, se.hi);
         store(e_ + 2 * i, se.lo);
         const D2 x = se.hi * splat(inv[i]);
@@ -299,7 +299,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_c
     // for the entry (d_w < 0) and lo for the exit (d_v < 0): by the signs of d.
     const D2 dd = make(d_w, d_v), tt = high26(m), dh = high26(dd);
     const int entered = 2 * w + neg_w, left = 2 * v + 1 - neg_v;
-    const Sum2 se = {times_sign(make(s_[entered], s_[left]), dd), times_sign(make(e_[entered], e_[left]), dd)};
+    const SumOf<D2> se = {times_sign(make(s_[entered], s_[left]), dd), times_sign(make(e_[entered], e_[left]), dd)};
     const D2 tc = tt + ((se.hi - tt * dh) + (se.lo - tt * (dd - dh))) * make(inv[w], inv[v]);
     const D2 am = abs(m);
     const M2 rounded = limit_wins | ((am >= splat(0x1p-400)) & (am <= splat(0x1p400))) | (se.hi == splat(0.0));

@@ -60,21 +60,24 @@ namespace rayproof::detail {
 // 1. Error-free transformations
 // ===================================================================================
 
-// An unevaluated sum hi + lo of two doubles.
-struct Pair {
-    double hi, lo;
+// An unevaluated sum hi + lo: of two doubles (Pair), or lane by lane of two
+// lanes::D2 (the certified box's two-lane path).
+template <class V> struct SumOf {
+    V hi, lo;
 };
+using Pair = SumOf<double>;
 
 // Knuth's TwoSum: hi = fl(a + b) and lo = (a + b) − hi exactly. Branch-free, 6 flops,
 // no precondition on the order of a and b. Exact whenever no operation overflows,
 // subnormals included (the error of a floating-point addition is always
 // representable); that holds for |a|, |b| <= 2^1022. Near ±max the intermediate
 // s − a can overflow although s does not: lo is then NaN (expansions catch it as a
-// non-finite component), never a wrong finite value.
-inline Pair two_sum(double a, double b) {
-    const double s = a + b;
-    const double bv = s - a;
-    const double av = s - bv;
+// non-finite component), never a wrong finite value. V is double, or lanes::D2 (the same
+// operations in each lane).
+template <class V> inline SumOf<V> two_sum(V a, V b) {
+    const V s = a + b;
+    const V bv = s - a;
+    const V av = s - bv;
     return {s, (a - av) + (b - bv)};
 }
 

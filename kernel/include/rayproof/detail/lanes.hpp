@@ -108,15 +108,4 @@ RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 x) { return {m.a ? x.a : 0.0, m.b ? x.b 
 
 #endif
 
-// Knuth's TwoSum on each lane (see two_sum in exact.hpp): hi + lo == a + b exactly.
-struct Sum2 {
-    D2 hi, lo;
-};
-RAYPROOF_ALWAYS_INLINE Sum2 two_sum(D2 a, D2 b) {
-    const D2 s = a + b;
-    const D2 bv = s - a;
-    const D2 av = s - bv;
-    return {s, (a - av) + (b - bv)};
-}
-
 }  // namespace rayproof::detail::lanes
