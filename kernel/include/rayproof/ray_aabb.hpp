@@ -94,10 +94,6 @@ RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
 // faithful_slab_double is the correction in double, branch-free: {t', ok}; ok is false
 // where the conditions above fail. p == o gives exactly +0 (ok). faithful_to rounds it
 // to T.
-RAYPROOF_ALWAYS_INLINE double slab_correction(Pair se, double d, double approx, double inv) {
-    const double t = approx + (se.lo - mul_sub(approx, d, se.hi)) * inv;
-    return t;
-}
 struct FaithfulDouble {
     double t;
     bool ok;
@@ -111,8 +107,9 @@ RAYPROOF_ALWAYS_INLINE FaithfulDouble faithful_slab_double(double p, double o, d
     const bool in_range = int(as >= 0x1p-960) & int(as <= 0x1p1020) & int(at >= 0x1p-960) & int(at <= 0x1p995) &
                           int(ai >= 0x1p-1022) & int(ai <= std::numeric_limits<double>::max()) &
                           int(std::abs(d) <= 0x1p995);
+    const double t = approx + (se.lo - mul_sub(approx, d, se.hi)) * inv;
     const bool zero = se.hi == 0;
-    return {zero ? 0.0 : slab_correction(se, d, approx, inv), bool(int(in_range) | int(zero))};
+    return {zero ? 0.0 : t, bool(int(in_range) | int(zero))};
 }
 // The faithfully rounded double to T: a faithfully rounded double rounded to nearest T
 // is a faithfully rounded T (the two T values enclosing t enclose the double); beyond
@@ -211,7 +208,7 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 // verdict is certain when the entry's and the exit's [lo, hi] are disjoint. A miss
 // needs no winner at all: the exact latest entry is at least max(lo(m), t_min) and the
 // exact earliest exit at most min(hi(exit m), t_max). Then both winners are rounded
-// faithfully by faithful_slab_double's correction, in the two lanes at once.
+// faithfully, in the two lanes at once (the correction and its derivation are below).
 // Everything runs branch-free (the verdict, the winning axes and the signs of d are as
 // random as the rays); one well-predicted branch hands anything these checks cannot
 // vouch for (close values, overflow, extreme exponents) to the general path,
@@ -227,10 +224,6 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 // becomes m and makes lo(m) NaN, which fails every check it enters; a wrong -inf sinks
 // to m3, which a hit checks to be finite (a miss never looks at the losers: its bounds
 // only weaken without them).
-// Faithful rounding: |d| in [2^-500, 2^500] and a winner's |t~| in [2^-400, 2^400] give
-// |s| = |t~·d|(1 ± 2u) in [2^-901, 2^901]: inside every condition of
-// faithful_slab_double's derivation (no overflow, nothing below 2^-960); s == 0 gives
-// the exact t = 0.
 template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
     using namespace lanes;
     constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
