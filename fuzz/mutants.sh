@@ -32,6 +32,8 @@ MUTATIONS=(
   "aabb-flat-box-invalid|ray_aabb_fuzz|kernel/include/rayproof/detail/validate.hpp|s/b\.lo\[0\] <= b\.hi\[0\]/b.lo[0] < b.hi[0]/|a flat Aabb (lo_0 == hi_0) reported invalid"
   "obb-open-parallel-slab|ray_obb_fuzz|kernel/include/rayproof/ray_obb.hpp|s/return above\.sign\(\) >= 0 && below\.sign\(\) >= 0;/return above.sign() > 0 && below.sign() > 0;/|Obb: a ray parallel to a slab and exactly on its face plane taken as outside (exact stage)"
   "plane-in-plane-miss|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/if \(x\.in_plane\(\)\) \{/if (false \&\& x.in_plane()) {/|Plane: a ray lying in the plane reported as a miss"
+  "sphere-distance-no-bound|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/if \(n - rad > g11 \* \(n \+ sum_dl \+ sum_p\) \+ 0x1p-500\) return h;/if (n - rad > 0) return h;/|certified Sphere straight-line path: a miss taken from the estimated distance of the line, without its error bound"
+  "sphere-root-no-proof|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/const double thr = 2 \* \(qx\.err \+/const double thr = 0 * (qx.err +/|certified Sphere straight-line path: the signs of q next to a root taken from floating point, without their bound"
   "sphere-tangent-miss|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/hit = sd >= 0;/hit = sd > 0;/|Sphere: an exactly tangent ray (zero discriminant) reported as a miss"
   "exact-two-sum-sign|ray_obb_fuzz|kernel/include/rayproof/detail/exact.hpp|s/return \{s, \(a - av\) \+ \(b - bv\)\};/return {s, (a - av) - (b - bv)};/|exact arithmetic: two_sum's error term with a wrong sign"
 )

@@ -8,8 +8,8 @@
 // and double. Also checks that the filtered certified answer is identical to the
 // exact-stage answer, bit for bit, on the same cases (the filter may only decide what
 // the exact stage would decide the same way), and that the certified box's
-// straight-line common path agrees bit for bit with the general path wherever it
-// answers, on every generator, and answers nearly every general-position case.
+// and sphere's straight-line common paths agree bit for bit with the general paths
+// wherever they answer, on every generator, and answer nearly every general-position case.
 #include <rayproof/generators.hpp>
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
@@ -123,14 +123,15 @@ template <class T, class Shape> void run_shape() {
     EXPECT_GT(checked, 0);
 }
 
-// The straight-line path (aabb_certified_common) against the general path on every
-// generator: wherever the straight-line path answers, the two answers are identical bit
-// for bit (verdict, face, t_enter, t_exit). On general-position input it must answer
-// nearly always: a straight-line path that declined everything would leave every other
-// test green and the certified mode slow.
-template <class T> void aabb_common_agrees_with_general() {
+// A straight-line path (aabb_certified_common, sphere_certified_common) against the
+// general path on every generator: wherever the straight-line path answers, the two
+// answers are identical bit for bit (verdict, face, t_enter, t_exit). On
+// general-position input it must answer nearly always: a straight-line path that
+// declined everything would leave every other test green and the certified mode slow.
+template <class T, class Shape, class Common, class General>
+void common_agrees_with_general(Common&& common_path, General&& general_path) {
     const std::uint64_t base = seed();
-    for (const auto& g : gen::generators<T, Aabb<T>>()) {
+    for (const auto& g : gen::generators<T, Shape>()) {
         const std::string_view name = g.name;
         gen::Rng rng(base);
         int answered = 0;
@@ -138,10 +139,10 @@ template <class T> void aabb_common_agrees_with_general() {
         for (int k = 0; k < n; ++k) {
             const auto c = g.make(rng);
             if (!detail::valid(c.ray) || !detail::valid(c.shape)) continue;
-            const std::optional<Hit<T>> common = detail::aabb_certified_common(c.ray, c.shape);
+            const std::optional<Hit<T>> common = common_path(c.ray, c.shape);
             if (!common) continue;
             ++answered;
-            const Hit<T> general = detail::aabb_certified_general(c.ray, c.shape);
+            const Hit<T> general = general_path(c.ray, c.shape);
             ASSERT_TRUE(common->verdict == general.verdict && common->face == general.face &&
                         same_bits(common->t_enter, general.t_enter) && same_bits(common->t_exit, general.t_exit))
                 << "generator " << name << " case " << k << " (RAYPROOF_SEED=" << base << "): " << c.ray << " vs "
@@ -163,4 +164,14 @@ TYPED_TEST(CertifiedExactStage, Aabb) { run_shape<TypeParam, Aabb<TypeParam>>();
 TYPED_TEST(CertifiedExactStage, Obb) { run_shape<TypeParam, Obb<TypeParam>>(); }
 TYPED_TEST(CertifiedExactStage, Plane) { run_shape<TypeParam, Plane<TypeParam>>(); }
 TYPED_TEST(CertifiedExactStage, Sphere) { run_shape<TypeParam, Sphere<TypeParam>>(); }
-TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) { aabb_common_agrees_with_general<TypeParam>(); }
+TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {
+    using T = TypeParam;
+    common_agrees_with_general<T, Aabb<T>>([](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_common(r, b); },
+                                           [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_general(r, b); });
+}
+TYPED_TEST(CertifiedExactStage, SphereStraightLinePathAgreesWithGeneralPath) {
+    using T = TypeParam;
+    common_agrees_with_general<T, Sphere<T>>(
+        [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_certified_common(r, s); },
+        [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_certified_general(r, s); });
+}

@@ -36,6 +36,15 @@
 //            a·g + b degree 3 (detail/exact.hpp). For double, a q(g) the interval cannot
 //            sign (near a root its enclosure holds 0) is tried next in double-word
 //            arithmetic with a proven bound (compensated_sign_at), then exactly.
+//            The common case runs as straight-line code first (sphere_certified_common):
+//            the roots estimated in double as the fast mode does, each refined by one
+//            Newton step on a double-word q(x) and proven by the signs of q at the
+//            candidate float and a neighbour (from the exact expansion q(x + δ) =
+//            q(x) + δ(a(2x + δ) + 2b)); a miss proven by a bound on the line's distance
+//            from the centre, or by q > 0 with the slope pointing away at an end of the
+//            range. It answers for input magnitudes in [2^-300, 2^300] (or 0) and gives
+//            the general path's answer bit for bit; everything it cannot prove goes to
+//            the general path (sphere_certified).
 #pragma once
 
 #include <rayproof/detail/compensated.hpp>
@@ -45,6 +54,7 @@
 #include <rayproof/detail/validate.hpp>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cstdint>
 #include <utility>
@@ -86,6 +96,74 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
     h.t_exit = std::min(t1, r.t_max);
     return h;
 }
+
+template <class T> std::array<double, 3> double3(const Vec3<T>& v) { return {double(v[0]), double(v[1]), double(v[2])}; }
+
+// q(t) = |(o - c) + t d|² - r² at a double t in double-word arithmetic with a proven
+// bound (value_at), and its sign when the bound decides (sign_at: 1, -1, or 2; a zero
+// is never decided). With the exact splittings (two_sum, two_prod; Higham, ASNA, 4.3):
+//   o_j - c_j = s_j + e_j,  t·d_j = P_j + p_j,  s_j + P_j = W_j + y_j,
+//   ω_j = fl(fl(y_j + e_j) + p_j),  w_j = W_j + ω_j + ε_j,  |ε_j| <= β_j = gamma(2)(|y_j| + |e_j| + |p_j|),
+//   w_j² = W_j² + 2 W_j ω_j + ω_j² + ε_j (2 W_j + 2 ω_j + ε_j),  the last term <= F_j = β_j (2|W_j| + 2|ω_j| + β_j);
+//   W_j² = A_j + a_j and r² = R + ρ exactly, A_0 + A_1 + A_2 - R = σ + x_1 + x_2 + x_3 exactly
+//   (a cascade of two_sum);
+// the small terms τ = (x_1, x_2, x_3, a_j, fl(2 W_j ω_j), fl(ω_j²), -ρ), thirteen in all,
+// each product within u of its own value, summed to L with error <= gamma(12)·Σ|τ|;
+// v = fl(σ + L). Hence
+//   |q(t) - v| <= gamma(13)·Σ|τ| + Σ_j F_j + u|v|/(1 - u),
+// and err = 2(gamma(13)·Σ|τ| + Σ F_j) + 2u|v| + 2^-1000 bounds it: the doubling covers
+// the roundings of the bound itself. Underflow: a two_prod whose error term is
+// subnormal may round it by up to 2^-1075; β_j carries 2^-1070 for p_j, and 2^-1000
+// covers a_j, ρ and the small products. Exact while nothing overflows: the two_sum
+// cascade is guarded by A_0 + A_1 + A_2 + R <= 2^1000; any other overflow leaves an
+// infinite or NaN err, which decides nothing.
+class SphereResidual {
+public:
+    SphereResidual(const std::array<double, 3>& o, const std::array<double, 3>& d, const std::array<double, 3>& c,
+                   double radius)
+        : d_(d), r2_(two_prod(radius, radius)) {
+        for (int j = 0; j < 3; ++j) oc_[j] = two_sum(o[j], -c[j]);
+    }
+    struct Value {
+        double v, err;  // |q(t) - v| <= err; err = +inf when a guard fails
+    };
+    Value value_at(double t) const {
+        constexpr double g2 = exact_impl::gamma(2), g13 = exact_impl::gamma(13), u = exact_impl::u;
+        double W[3], om[3], A[3], small = -r2_.lo, abs_small = std::abs(r2_.lo), F = 0;
+        for (int j = 0; j < 3; ++j) {
+            const Pair p = two_prod(t, d_[j]);
+            const Pair x = two_sum(oc_[j].hi, p.hi);
+            W[j] = x.hi;
+            om[j] = (x.lo + oc_[j].lo) + p.lo;
+            const double beta = g2 * (std::abs(x.lo) + std::abs(oc_[j].lo) + std::abs(p.lo)) + 0x1p-1070;
+            F += beta * (2 * std::abs(W[j]) + 2 * std::abs(om[j]) + beta);
+            const Pair sq = two_prod(W[j], W[j]);
+            A[j] = sq.hi;
+            const double m = 2 * W[j] * om[j], k = om[j] * om[j];
+            small += (sq.lo + m) + k;
+            abs_small += (std::abs(sq.lo) + std::abs(m)) + k;
+        }
+        if (!(A[0] + A[1] + A[2] + r2_.hi <= 0x1p1000)) return {0, std::numeric_limits<double>::infinity()};
+        const Pair s1 = two_sum(A[0], A[1]);
+        const Pair s2 = two_sum(s1.hi, A[2]);
+        const Pair s3 = two_sum(s2.hi, -r2_.hi);
+        small += (s1.lo + s2.lo) + s3.lo;
+        abs_small += (std::abs(s1.lo) + std::abs(s2.lo)) + std::abs(s3.lo);
+        const double v = s3.hi + small;
+        return {v, 2 * (g13 * abs_small + F) + 2 * u * std::abs(v) + 0x1p-1000};
+    }
+    int sign_at(double t) const {
+        const Value q = value_at(t);
+        if (q.v > q.err) return 1;
+        if (q.v < -q.err) return -1;
+        return 2;
+    }
+
+private:
+    Pair oc_[3];
+    std::array<double, 3> d_;
+    Pair r2_;
+};
 
 // The quadratic q(t) = |Δ + t d|² - r² of a ray and a sphere, with interval enclosures
 // of its pieces and exact signs on demand.
@@ -137,39 +215,11 @@ public:
     }
     I slope(double t) const { return a_ * I(t) + b_; }  // a t + b, half the derivative
 
-    // sign q(t) from double-word arithmetic with a proven bound (detail/compensated.hpp),
-    // or 2 when that cannot decide (q(t) == 0 never is). t finite.
-    // w_j = (o_j - c_j) + t·d_j is held exactly by four terms (two_sum, two_prod) and
-    // summed to W_j + ω_j with |w_j - W_j - ω_j| <= β_j; then
-    // w_j² = W_j² + 2 W_j ω_j + ε_j, |ε_j| <= ω_j² + β_j (2|W_j| + 2|ω_j| + β_j), and
-    // Σ (W_j² + 2 W_j ω_j) - r² is a CompensatedSum of exact products (bound B). The
-    // value v = fl(hi + lo) is within u|v| of hi + lo; a sign is answered when |v|
-    // exceeds 2(B + Σ_j bound(ε_j)) + 2^-1020: the doubling covers u and the relative
-    // error of evaluating the bound (about gamma(12)), 2^-1020 its underflow.
+    // sign q(t) from double-word arithmetic with a proven bound (SphereResidual), or 2
+    // when that cannot decide. t finite.
     int compensated_sign_at(double t) const {
-        CompensatedSum q;
-        double err = 0;
-        for (int j = 0; j < 3; ++j) {
-            CompensatedSum w;
-            const Pair oc = two_sum(double(r_->origin[j]), -double(s_->center[j]));
-            w.add(oc.hi);
-            w.add(oc.lo);
-            w.add_product(t, double(r_->direction[j]));
-            if (!w.ok()) return 2;
-            const double W = w.hi(), om = w.lo(), beta = w.bound();
-            q.add_product(W, W);
-            q.add_product(2 * W, om);
-            err += om * om + beta * (2 * std::abs(W) + 2 * std::abs(om) + beta);
-        }
-        const double rad = s_->radius;
-        q.add_product(-rad, rad);
-        if (!q.ok()) return 2;
-        const double threshold = 2 * (q.bound() + err) + 0x1p-1020;
-        const double v = q.hi() + q.lo();
-        if (!(threshold <= 0x1p1000)) return 2;
-        if (v > threshold) return 1;
-        if (v < -threshold) return -1;
-        return 2;
+        return SphereResidual(double3(r_->origin), double3(r_->direction), double3(s_->center), double(s_->radius))
+            .sign_at(t);
     }
 
     // Exact signs.
@@ -235,7 +285,7 @@ private:
     I delta_[3], a_, b_, c_;
 };
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t);
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t);
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, conservative_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
@@ -400,9 +450,204 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
     return h;
 }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
+// Signs of q(t) and of the slope a t + b at a finite t from one plain evaluation and a
+// static bound (1, -1, or 2 when the bound cannot decide), with Δ~_j = fl(o_j - c_j):
+//     w~_j = fl(Δ~_j + fl(t d_j)),  M_j = |Δ~_j| + |fl(t d_j)|,  |w~_j - w_j| <= gamma(2)·M_j
+// (Δ~_j and fl(t d_j) are each within u/(1 - u) of their exact values, the sum one more
+// rounding). Then |w~_j² - w_j²| <= |w~_j - w_j|·|w~_j + w_j| <= 2·gamma(2)(1 + gamma(3))·M_j²,
+// and the sum of four rounded squares is off by gamma(4)·Σ terms (Higham, ASNA, 3.1):
+//     |fl(Σ w~_j² - r²) - q(t)| <= gamma(9)·(Σ M_j² + r²).
+// Likewise |fl(Σ d_j w~_j) - (a t + b)| <= (gamma(2) + gamma(3)(1 + u))·Σ|d_j| M_j <= gamma(6)·Σ|d_j| M_j.
+// Each threshold is twice the bound evaluated in floating point (the doubling covers the
+// few roundings of the bound itself) plus 2^-1000 for underflow (at most 2^-1075 per
+// rounding, times at most 3·M_j where a square amplifies it, which for M_j >= 1 the
+// relative bound absorbs). A threshold above 2^1000 (an overflow near) decides nothing.
+struct SphereCheapSigns {
+    int q, slope;
+};
+RAYPROOF_ALWAYS_INLINE SphereCheapSigns sphere_cheap_signs(const double (&dl)[3], const double (&d)[3], double rad,
+                                                           double t) {
+    constexpr double eta = 0x1p-1000, g9 = 2 * gamma<double>(9), g6 = 2 * gamma<double>(6);
+    double v = -rad * rad, bq = rad * rad, sl = 0, bs = 0;
+    for (int j = 0; j < 3; ++j) {
+        const double p = t * d[j];
+        const double w = dl[j] + p, m = std::abs(dl[j]) + std::abs(p);
+        v += w * w;
+        bq += m * m;
+        sl += d[j] * w;
+        bs += std::abs(d[j]) * m;
+    }
+    const double tq = g9 * bq + eta, ts = g6 * bs + eta;
+    SphereCheapSigns out{2, 2};
+    if (tq <= 0x1p1000) out.q = v > tq ? 1 : v < -tq ? -1 : 2;
+    if (ts <= 0x1p1000) out.slope = sl > ts ? 1 : sl < -ts ? -1 : 2;
+    return out;
+}
+
+// The straight-line path of the certified mode: the roots estimated as the fast mode
+// does (in double), then proven. It answers a miss only when the line's distance from
+// the centre certainly exceeds r, or the sphere certainly lies beyond an end of the
+// range; a hit only with the signs of q at the estimates' floats and their neighbours
+// proven (cheap bound, else double-word), which pins t_enter as the least float g with
+// q(g) <= 0 after q(g-) > 0 (q convex: q decreases up to g, so every float below g is
+// outside, as the general path's search predicate also says), and t_exit likewise from
+// above. Anything else, nothing: the general path answers. Its answers are therefore the
+// general path's, bit for bit.
+// Distance certificate, with Δ~_j = fl(o_j - c_j), f = fl(b~/a~), P_j = fl(f d_j),
+// m~_j = fl(Δ~_j - P_j), n = fl(sqrt(fl(Σ m~_j²))), exact Δ, a, b:
+//   |m~_j - (Δ_j - f d_j)| <= gamma(2)(|Δ~_j| + |P_j|), so |Δ - f d| >= n(1 - gamma(3)) - gamma(2)·Σ(|Δ~_j| + |P_j|);
+//   |b~ - b| <= gamma(4)·Σ|d_j Δ~_j| and |a~ - a| <= gamma(3)·a give |f - b/a| <= gamma(8)·Σ|d_j Δ~_j|/a~,
+//   and by Cauchy-Schwarz ε² = a (f - b/a)² <= (gamma(9)·Σ|Δ~_j|)²;
+//   the line's distance l satisfies l² = |Δ - f d|² - ε² >= (|Δ - f d| - ε)², so
+//   l >= n - K, K = gamma(3)·n + gamma(2)·Σ(|Δ~_j| + |P_j|) + gamma(9)·Σ|Δ~_j| <= gamma(11)·(n + Σ|Δ~_j| + Σ|P_j|).
+// A miss is answered when fl(n - r) > 2·fl(gamma(11)·(...)) + 2^-500: the doubling covers
+// the roundings of both sides, 2^-500 the underflow of the squares under the square
+// root (at most 3·2^-1075 inside, 2^-535 outside). Valid while every nonzero input
+// magnitude (o, c, d, r) lies in [2^-300, 2^300]: then a, b, f and every product stay
+// far from overflow and only the squares of m~ and the tiny products can underflow.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified_common(const Ray<T>& r,
+                                                                                          const Sphere<T>& s) {
+    constexpr double g11 = 2 * gamma<double>(11), lo_mag = 0x1p-300, hi_mag = 0x1p300;
+    const double rad = double(s.radius);
+    double d[3], dl[3];
+    // The largest input magnitude, and the smallest nonzero one (1 when all are 0).
+    auto nonzero_abs = [](double v) { return v == 0 ? 1.0 : std::abs(v); };
+    double largest = std::abs(rad), smallest = nonzero_abs(rad);
+    for (int j = 0; j < 3; ++j) {
+        const double o = double(r.origin[j]), c = double(s.center[j]);
+        d[j] = double(r.direction[j]);
+        dl[j] = o - c;
+        largest = std::max(largest, std::max(std::max(std::abs(o), std::abs(c)), std::abs(d[j])));
+        smallest = std::min(smallest, std::min(std::min(nonzero_abs(o), nonzero_abs(c)), nonzero_abs(d[j])));
+    }
+    if (!(largest <= hi_mag && smallest >= lo_mag)) return std::nullopt;
+    const double a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    const double b = d[0] * dl[0] + d[1] * dl[1] + d[2] * dl[2];
+    const double f = b / a;
+    double n2 = 0, sum_dl = 0, sum_p = 0, cc = -rad * rad;
+    for (int j = 0; j < 3; ++j) {
+        const double p = f * d[j], m = dl[j] - p;
+        n2 += m * m;
+        sum_dl += std::abs(dl[j]);
+        sum_p += std::abs(p);
+        cc += dl[j] * dl[j];
+    }
+    const double n = std::sqrt(n2);
+    Hit<T> h;
+    if (!(n <= rad)) {  // the estimate says the line misses: prove it, or hand over
+        if (n - rad > g11 * (n + sum_dl + sum_p) + 0x1p-500) return h;
+        return std::nullopt;
+    }
+    // The roots as the fast mode estimates them: q = -(b + sign(b)·sqrt(disc)), t = q/a, c'/q.
+    const double disc = a * ((rad - n) * (rad + n));
+    const double qq = -(b + std::copysign(std::sqrt(disc), b));
+    double t0 = qq / a, t1 = cc / qq;
+    if (t1 < t0) std::swap(t0, t1);
+    if (!(std::isfinite(t0) && std::isfinite(t1))) return std::nullopt;
+
+    // Signs at the ends of the range (q(±inf) = +1: it grows without bound).
+    const bool min_inf = std::isinf(r.t_min), max_inf = std::isinf(r.t_max);
+    const SphereCheapSigns at_min = min_inf ? SphereCheapSigns{1, -1} : sphere_cheap_signs(dl, d, rad, double(r.t_min));
+    const SphereCheapSigns at_max = max_inf ? SphereCheapSigns{1, 1} : sphere_cheap_signs(dl, d, rad, double(r.t_max));
+    const SphereResidual res(double3(r.origin), double3(r.direction), double3(s.center), rad);
+    const int q_min = at_min.q != 2 ? at_min.q : res.sign_at(double(r.t_min));
+    const int q_max = at_max.q != 2 ? at_max.q : res.sign_at(double(r.t_max));
+    if (q_min == 2 || q_max == 2) return std::nullopt;
+    // The sphere certainly behind t_min, or beyond t_max: outside there, moving away
+    // (q is convex, so its slope only grows).
+    if (q_min > 0 && at_min.slope == 1) return h;
+    if (q_max > 0 && at_max.slope < 0) return h;
+
+    // A root estimate x refined and proven: q(x) ≈ v in double-word arithmetic, one
+    // Newton step x - v/(2(a x + b)) rounded to T gives the candidate g, and the sign of
+    // q at g and at a neighbour y of g comes from the exact expansion of the quadratic,
+    //     q(y) = q(x) + δ·σ,  δ = y - x (checked exact),  σ = a(2x + δ) + 2b,
+    // evaluated as V = fl(v + fl(δ·σ~)), σ~ = fl(fl(a~·fl(2x + δ)) + 2b~). With
+    // |b~ - b| <= gamma(4)·C (C = Σ|d_j Δ~_j|) and |a~ - a| <= gamma(3)·a,
+    // |σ~ - σ| <= gamma(7)·(|fl(a~·fl(2x + δ))| + 2C) =: e_σ, so
+    //     |V - q(y)| <= err_v + |δ|·e_σ + u|δ σ~| + u|V|/(1 - u),
+    // and the sign of V is q(y)'s when |V| exceeds 2(err_v + |δ|(e_σ + u|σ~|)) + 2^-1000
+    // (the doubling covers u|V| and the bound's own roundings, 2^-1000 underflow).
+    constexpr double g7 = gamma<double>(7), u = exact_impl::u;
+    const double cab = std::abs(d[0] * dl[0]) + std::abs(d[1] * dl[1]) + std::abs(d[2] * dl[2]);
+    auto refine = [&](double x, T& g) {
+        const SphereResidual::Value qx = res.value_at(x);
+        g = static_cast<T>(x - qx.v / (2 * (a * x + b)));
+        if (g == 0) g = T(0);
+        return qx;
+    };
+    auto sign_near = [&](const SphereResidual::Value& qx, double x, T y) {
+        const Pair dd = two_sum(double(y), -x);
+        const double del = dd.hi;
+        const double xs = 2 * x + del, ax = a * xs, sig = ax + 2 * b;
+        const double e_sig = 2 * g7 * (std::abs(ax) + 2 * cab);
+        const double V = qx.v + del * sig;
+        const double thr = 2 * (qx.err + std::abs(del) * (e_sig + u * std::abs(sig))) + 0x1p-1000;
+        if (dd.lo != 0 || !(thr <= 0x1p1000)) return 2;
+        return V > thr ? 1 : V < -thr ? -1 : 2;
+    };
+    auto canonical = [](T x) { return x == 0 ? T(0) : x; };  // step_up(-min) is -0
+
+    T t_enter, t_exit;
+    if (q_min <= 0) {
+        t_enter = r.t_min;
+    } else {
+        // q decreases through t0: t_enter = g when q(g-) > 0 >= q(g), g+ when q(g) > 0 >= q(g+).
+        T g;
+        const SphereResidual::Value qx = refine(t0, g);
+        if (!(std::isfinite(g) && g > r.t_min)) return std::nullopt;
+        const int sg = sign_near(qx, t0, g);
+        if (sg < 0 && g <= r.t_max && sign_near(qx, t0, step_down(g)) == 1) {
+            t_enter = g;
+        } else if (sg == 1 && step_up(g) <= r.t_max && sign_near(qx, t0, step_up(g)) < 0) {
+            t_enter = canonical(step_up(g));
+        } else {
+            return std::nullopt;
+        }
+    }
+    if (q_max <= 0) {
+        t_exit = r.t_max;
+    } else {
+        // q increases through t1: t_exit = g when q(g) <= 0 < q(g+), g- when q(g-) <= 0 < q(g).
+        T g;
+        const SphereResidual::Value qx = refine(t1, g);
+        if (!(std::isfinite(g) && g < r.t_max)) return std::nullopt;
+        const int sg = sign_near(qx, t1, g);
+        if (sg < 0 && g >= r.t_min && sign_near(qx, t1, step_up(g)) == 1) {
+            t_exit = g;
+        } else if (sg == 1 && step_down(g) >= r.t_min && sign_near(qx, t1, step_down(g)) < 0) {
+            t_exit = canonical(step_down(g));
+        } else {
+            return std::nullopt;
+        }
+    }
+    h.verdict = Verdict::hit;
+    h.t_enter = t_enter > t_exit ? t_exit : t_enter;
+    h.t_exit = t_exit;
+    return h;
+}
+
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_certified_general(const Ray<T>& r, const Sphere<T>& s) {
+    return sphere_certified(r, SphereQuadratic<T>(r, s));
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return sphere_certified(r, SphereQuadratic<T>(r, p.sphere));
+    // Both paths meet in the three fields, not in a Hit (see ray_aabb.hpp).
+    Verdict verdict;
+    T t_enter, t_exit;
+    if (const std::optional<Hit<T>> h = sphere_certified_common(r, p.sphere)) {
+        RAYPROOF_COUNT_QUERY();
+        verdict = h->verdict, t_enter = h->t_enter, t_exit = h->t_exit;
+    } else {
+        const Hit<T> g = sphere_certified_general(r, p.sphere);
+        verdict = g.verdict, t_enter = g.t_enter, t_exit = g.t_exit;
+    }
+    Hit<T> out;
+    out.verdict = verdict;
+    out.t_enter = t_enter;
+    out.t_exit = t_exit;
+    return out;
 }
 
 }  // namespace rayproof::detail
