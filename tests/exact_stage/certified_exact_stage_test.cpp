@@ -7,8 +7,8 @@
 // verdict, face and faithful t must match exactly. Covers all four shapes over float
 // and double. Also checks that the filtered certified answer is identical to the
 // exact-stage answer, bit for bit, on the same cases (the filter may only decide what
-// the exact stage would decide the same way), and that the certified box's
-// and sphere's straight-line common paths agree bit for bit with the general paths
+// the exact stage would decide the same way), and that the certified box's,
+// plane's and sphere's straight-line common paths agree bit for bit with the general paths
 // wherever they answer, on every generator, and answer nearly every general-position case.
 #include <rayproof/generators.hpp>
 #include <rayproof/oracle/oracle.hpp>
@@ -123,7 +123,7 @@ template <class T, class Shape> void run_shape() {
     EXPECT_GT(checked, 0);
 }
 
-// A straight-line path (aabb_certified_common, sphere_certified_common) against the
+// A straight-line path (aabb_, plane_, sphere_certified_common) against the
 // general path on every generator: wherever the straight-line path answers, the two
 // answers are identical bit for bit (verdict, face, t_enter, t_exit). On
 // general-position input it must answer nearly always: a straight-line path that
@@ -168,6 +168,12 @@ TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {
     using T = TypeParam;
     common_agrees_with_general<T, Aabb<T>>([](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_common(r, b); },
                                            [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_general(r, b); });
+}
+TYPED_TEST(CertifiedExactStage, PlaneStraightLinePathAgreesWithGeneralPath) {
+    using T = TypeParam;
+    common_agrees_with_general<T, Plane<T>>(
+        [](const Ray<T>& r, const Plane<T>& p) { return detail::plane_certified_common(r, p); },
+        [](const Ray<T>& r, const Plane<T>& p) { return detail::plane_certified_general(r, p); });
 }
 TYPED_TEST(CertifiedExactStage, SphereStraightLinePathAgreesWithGeneralPath) {
     using T = TypeParam;

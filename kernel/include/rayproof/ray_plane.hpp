@@ -19,11 +19,15 @@
 //            certified — the intervals decide what they separate; otherwise exact
 //            arithmetic (detail/exact.hpp): sign(den) and sign(num) are degree 2, the
 //            position of t against t_min/t_max sign(num - t_min·den)·sign(den) degree
-//            3; t is rounded faithfully from the interval when it lies strictly between
-//            the neighbours of its midpoint; for double (whose intervals are rarely
-//            that narrow) next from double-word num and den with proven bounds
-//            (detail/compensated.hpp: 7 and 6 exact terms); else exactly. For float
-//            every step is in double and the interval suffices nearly always.
+//            3; t is rounded faithfully first from double-word num and den with proven
+//            bounds (detail/compensated.hpp: 7 and 6 exact terms; for float the
+//            faithful double rounded to nearest), next from the interval when it lies
+//            strictly between the neighbours of its midpoint, else exactly.
+//            The common case runs as straight-line code first (plane_certified_common):
+//            the sign of den and the position of t against t_min and t_max from the same
+//            double-word sums and their bounds, no intervals; what it cannot decide goes
+//            to the general path (plane_certified), which rounds t the same way first,
+//            so the two answer alike bit for bit.
 #pragma once
 
 #include <rayproof/detail/compensated.hpp>
@@ -61,6 +65,35 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
     return h;
 }
 
+// num = offset - n·o and den = n·d as double-word sums of exact terms (7 and 6, see
+// detail/compensated.hpp), for doubles and for floats alike (floats are doubles exactly).
+struct PlaneSums {
+    CompensatedSum num, den;
+};
+template <class T> RAYPROOF_ALWAYS_INLINE PlaneSums plane_sums(const Ray<T>& r, const Plane<T>& p) {
+    PlaneSums s;
+    s.num.add(double(p.offset));
+    for (int j = 0; j < 3; ++j) {
+        s.num.add_product(-double(p.normal[j]), double(r.origin[j]));
+        s.den.add_product(double(p.normal[j]), double(r.direction[j]));
+    }
+    return s;
+}
+// t = num/den faithfully rounded to T from the double-word sums, given sign(den), or
+// nothing. For float the faithfully rounded double is rounded to the nearest float: t
+// lies within one double ulp of it, so within less than a float ulp of that float, which
+// is therefore one of the two floats enclosing t (and t itself when t is a float).
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<T> plane_compensated_faithful(const PlaneSums& s, int sden) {
+    const std::optional<double> c = compensated_faithful_quotient(s.num, s.den, sden);
+    if (!c) return std::nullopt;
+    const T t = static_cast<T>(*c);
+    if (!std::isfinite(t)) return std::nullopt;
+    return t;
+}
+template <class T> std::optional<T> plane_compensated_faithful(const Ray<T>& r, const Plane<T>& p, int sden) {
+    return plane_compensated_faithful<T>(plane_sums(r, p), sden);
+}
+
 // The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures
 // and the exact values on demand.
 template <class T> class PlaneCrossing {
@@ -96,16 +129,8 @@ public:
     // enclosure when it pins one float; for double next from double-word num and den
     // (detail/compensated.hpp); else exactly (went_exact is then set).
     T faithful(const Interval<double>& t, bool& went_exact) const {
+        if (const std::optional<T> c = plane_compensated_faithful(*r_, *p_, sden_)) return *c;
         if (const std::optional<T> f = faithful_from_enclosure<T>(t)) return *f;
-        if constexpr (std::is_same_v<T, double>) {
-            CompensatedSum n, d;
-            n.add(double(p_->offset));
-            for (int j = 0; j < 3; ++j) {
-                n.add_product(-double(p_->normal[j]), double(r_->origin[j]));
-                d.add_product(double(p_->normal[j]), double(r_->direction[j]));
-            }
-            if (const std::optional<double> c = compensated_faithful_quotient(n, d, sden_)) return *c;
-        }
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, 0, 0);
     }
@@ -203,9 +228,59 @@ template <class T, class X> Hit<T> plane_certified(const Ray<T>& r, const X& x) 
     return h;
 }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
+// The straight-line path of the certified mode: every decision from the double-word
+// sums, no intervals. sign(den) when |fl(hi + lo)| > 2·bound (|den - fl(hi + lo)| <=
+// bound + u|fl(hi + lo)|); t against t_min and t_max by the sign of num - t_min·den
+// (residual_sign, proven bound) times sign(den); t by compensated_faithful_quotient.
+// Anything undecided (a nearly parallel ray, t within the bounds of an end of the
+// range, a guard of the sums), nothing: the general path answers. The general path
+// tries the same faithful rounding first, so the two agree bit for bit.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_certified_common(const Ray<T>& r,
+                                                                                         const Plane<T>& p) {
+    const PlaneSums s = plane_sums(r, p);
+    if (!s.num.ok() || !s.den.ok()) return std::nullopt;
+    const double bn = s.num.bound(), bd = s.den.bound(), dv = s.den.hi() + s.den.lo();
+    if (!(std::abs(dv) > 2 * bd)) return std::nullopt;
+    const int sden = dv > 0 ? 1 : -1;
+    Hit<T> h;
+    if (!std::isinf(r.t_min)) {  // t >= t_min?
+        const int c = residual_sign(s.num, s.den, bn, bd, double(r.t_min));
+        if (c == 2) return std::nullopt;
+        if (c != sden) return h;
+    }
+    if (!std::isinf(r.t_max)) {  // t <= t_max?
+        const int c = residual_sign(s.num, s.den, bn, bd, double(r.t_max));
+        if (c == 2) return std::nullopt;
+        if (c == sden) return h;
+    }
+    const std::optional<T> t = plane_compensated_faithful<T>(s, sden);
+    if (!t) return std::nullopt;
+    h.verdict = Verdict::hit;
+    h.t_enter = h.t_exit = *t;
+    return h;
+}
+
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_certified_general(const Ray<T>& r, const Plane<T>& p) {
+    return plane_certified(r, PlaneCrossing<T>(r, p));
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return plane_certified(r, PlaneCrossing<T>(r, p.plane));
+    // Both paths meet in the three fields, not in a Hit (see ray_aabb.hpp).
+    Verdict verdict;
+    T t_enter, t_exit;
+    if (const std::optional<Hit<T>> h = plane_certified_common(r, p.plane)) {
+        RAYPROOF_COUNT_QUERY();
+        verdict = h->verdict, t_enter = h->t_enter, t_exit = h->t_exit;
+    } else {
+        const Hit<T> g = plane_certified_general(r, p.plane);
+        verdict = g.verdict, t_enter = g.t_enter, t_exit = g.t_exit;
+    }
+    Hit<T> out;
+    out.verdict = verdict;
+    out.t_enter = t_enter;
+    out.t_exit = t_exit;
+    return out;
 }
 
 }  // namespace rayproof::detail
