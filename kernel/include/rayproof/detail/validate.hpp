@@ -12,26 +12,33 @@
 
 namespace rayproof::detail {
 
-template <class T> bool valid(const Ray<T>& r) {
-    if (!finite3(r.origin.data()) || !finite3(r.direction.data())) return false;
-    if (std::isnan(r.t_min) || std::isnan(r.t_max)) return false;
-    if (r.t_min == inf<T> || r.t_max == -inf<T>) return false;  // -inf / +inf are the allowed exceptions
-    if (!(r.t_min <= r.t_max)) return false;
-    return r.direction[0] != 0 || r.direction[1] != 0 || r.direction[2] != 0;
+// x - x is +0 for every finite x and NaN for ±inf and NaN, so a sum of such differences
+// is 0 exactly when every term is finite: one comparison for many numbers, no branch per
+// number (most queries are valid; the checks are joined with & for the same reason).
+template <class T> RAYPROOF_ALWAYS_INLINE T finite_probe(const T* v) { return ((v[0] - v[0]) + (v[1] - v[1])) + (v[2] - v[2]); }
+
+template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Ray<T>& r) {
+    const T* o = r.origin.data();
+    const T* d = r.direction.data();
+    // t_min <= t_max is false when either is NaN; -inf / +inf are the allowed exceptions.
+    return (finite_probe(o) + finite_probe(d) == 0) & (r.t_min <= r.t_max) & (r.t_min != inf<T>) &
+           (r.t_max != -inf<T>) & ((d[0] != 0) | (d[1] != 0) | (d[2] != 0));
 }
 
-template <class T> bool valid(const Aabb<T>& b) {
-    if (!finite3(b.lo.data()) || !finite3(b.hi.data())) return false;
-    return b.lo[0] <= b.hi[0] && b.lo[1] <= b.hi[1] && b.lo[2] <= b.hi[2];
+template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Aabb<T>& b) {
+    const T* lo = b.lo.data();
+    const T* hi = b.hi.data();
+    return (finite_probe(lo) + finite_probe(hi) == 0) & (lo[0] <= hi[0]) & (lo[1] <= hi[1]) & (lo[2] <= hi[2]);
 }
 
-template <class T> bool valid(const Sphere<T>& s) {
-    return finite3(s.center.data()) && std::isfinite(s.radius) && s.radius >= 0;
+template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Sphere<T>& s) {
+    // radius >= 0 is false for NaN; radius - radius is NaN for +inf.
+    return (finite_probe(s.center.data()) + (s.radius - s.radius) == 0) & (s.radius >= 0);
 }
 
-template <class T> bool valid(const Plane<T>& p) {
-    if (!finite3(p.normal.data()) || !std::isfinite(p.offset)) return false;
-    return p.normal[0] != 0 || p.normal[1] != 0 || p.normal[2] != 0;
+template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Plane<T>& p) {
+    const T* n = p.normal.data();
+    return (finite_probe(n) + (p.offset - p.offset) == 0) & ((n[0] != 0) | (n[1] != 0) | (n[2] != 0));
 }
 
 template <class T> bool valid(const Obb<T>& b) {
