@@ -22,7 +22,10 @@
 //            scalar types; the exact sign of d'_i is used when its interval holds 0 (a
 //            nearly parallel slab whose sign is unknown gives the half-line of values
 //            on the side its numerator allows, or no constraint at all).
-//            certified — the intervals decide every comparison they separate; the rest,
+//            certified — o'_i and d'_i enclosed by one plain evaluation in double and
+//            the static bounds gamma(4)·Σ|a_ji (o_j - c_j)| and gamma(3)·Σ|a_ji d_j|
+//            (derivation at ObbFrame), then the slab values in interval arithmetic;
+//            these intervals decide every comparison they separate; the rest,
 //            and the sign of d'_i, are decided exactly: num = ±h_i - Σ_j a_ji (o_j - c_j)
 //            and den = Σ_j a_ji d_j are degree 2, comparisons of two slab values degree 4
 //            (detail/exact.hpp). t is rounded faithfully from the interval when it lies
@@ -56,6 +59,17 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
 // [-h_i, h_i]; value (±h_i - o'_i)/d'_i.
 template <class T> class ObbFrame {
 public:
+    // Enclosures of o'_i and d'_i. The conservative mode's come from interval arithmetic
+    // (outward rounding per operation, the tighter of the two, whose ends it answers);
+    // the certified mode's (certified_t) from one plain evaluation and a static bound
+    // (only the decisions it separates matter there, and it is cheaper), with
+    // Δ~_j = fl(o_j - c_j) (within u/(1 - u)|Δ~_j| of o_j - c_j):
+    //   |fl(Σ_j a_ji Δ~_j) - o'_i| <= gamma(3)·Σ|a_ji Δ~_j| + u/(1 - u)·Σ|a_ji Δ~_j| <= gamma(4)·Σ|a_ji Δ~_j|,
+    //   |fl(Σ_j a_ji d_j) - d'_i| <= gamma(3)·Σ|a_ji d_j|
+    // (Higham, ASNA, 3.1). The bound is doubled (covering its own few roundings), 2^-1022
+    // covers underflowing products (at most 2^-1075 each), and each end then steps one
+    // float outward (covering the rounding of value ± bound). An infinite or NaN bound
+    // (an overflow) gives the whole line, which decides nothing.
     ObbFrame(const Ray<T>& r, const Obb<T>& b) : r_(&r), b_(&b) {
         Interval<double> oc[3];
         for (int j = 0; j < 3; ++j) oc[j] = Interval<double>(double(r.origin[j])) - Interval<double>(double(b.center[j]));
@@ -69,6 +83,28 @@ public:
             op_[i] = op;
             dp_[i] = dp;
             const int s = dp.certain_sign();
+            sden_[i] = s != 2 ? s : exact_den_sign(i);
+        }
+    }
+    ObbFrame(const Ray<T>& r, const Obb<T>& b, certified_t) : r_(&r), b_(&b) {
+        constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022;
+        double oc[3], d[3];
+        for (int j = 0; j < 3; ++j) {
+            oc[j] = double(r.origin[j]) - double(b.center[j]);
+            d[j] = double(r.direction[j]);
+        }
+        for (int i = 0; i < 3; ++i) {
+            double op = 0, dp = 0, so = 0, sd = 0;
+            for (int j = 0; j < 3; ++j) {
+                const double a = b.axes(j, i), x = a * oc[j], y = a * d[j];
+                op += x;
+                dp += y;
+                so += std::abs(x);
+                sd += std::abs(y);
+            }
+            op_[i] = around(op, g4 * so + eta);
+            dp_[i] = around(dp, g3 * sd + eta);
+            const int s = dp_[i].certain_sign();
             sden_[i] = s != 2 ? s : exact_den_sign(i);
         }
     }
@@ -137,6 +173,11 @@ public:
     }
 
 private:
+    static Interval<double> around(double v, double e) {
+        constexpr double inf = std::numeric_limits<double>::infinity();
+        if (!(e <= std::numeric_limits<double>::max())) return {-inf, inf};
+        return {step_down(v - e), step_up(v + e)};
+    }
     template <class E> E oprime(int i) const {
         E s(0.0);
         for (int j = 0; j < 3; ++j)
@@ -164,7 +205,7 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, conser
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, certified_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return slab_certified(ObbFrame<T>(r, p.box), r.t_min, r.t_max);
+    return slab_certified(ObbFrame<T>(r, p.box, certified_t{}), r.t_min, r.t_max);
 }
 
 }  // namespace rayproof::detail
