@@ -224,7 +224,8 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 // becomes m and makes lo(m) NaN, which fails every check it enters; a wrong -inf sinks
 // to m3, which a hit checks to be finite (a miss never looks at the losers: its bounds
 // only weaken without them).
-template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
+template <class T>
+RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b, bool rest_valid = true) {
     using namespace lanes;
     constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
     // 1/d for the three axes (axes 0 and 1 in one division), and whether every |d_i| is
@@ -232,7 +233,10 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_c
     // meaningless, and the final check sends the query to the general path.
     const D2 d01 = make(double(r.direction[0]), double(r.direction[1])), d22 = splat(double(r.direction[2]));
     const D2 inv01 = splat(1.0) / d01, inv22 = splat(1.0) / d22;
-    const M2 d_in_range = (min(abs(d01), abs(d22)) >= splat(0x1p-500)) & (max(abs(d01), abs(d22)) <= splat(0x1p500));
+    // Each |d_i| compared on its own: a NaN fails every comparison (min and max would
+    // drop it), so d_in_range also means finite and nonzero, which query() relies on.
+    const D2 a01 = abs(d01), a22 = abs(d22);
+    const M2 d_in_range = (a01 >= splat(0x1p-500)) & (a01 <= splat(0x1p500)) & (a22 >= splat(0x1p-500)) & (a22 <= splat(0x1p500));
     const double inv[3] = {lane0(inv01), lane1(inv01), lane0(inv22)};
     // Per axis (entry, -exit) = min((t_lo, -t_hi), (t_hi, -t_lo)), the slab values
     // t~ = fl(fl(p - o)·fl(1/d)); (lo - o, o - hi) is (t_lo, -t_hi)·d exactly as
@@ -297,7 +301,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_c
     const D2 am = abs(m);
     const M2 rounded = limit_wins | ((am >= splat(0x1p-400)) & (am <= splat(0x1p400))) | (se.hi == splat(0.0));
     // One branch on both lanes: a miss, or a hit decided and rounded in both.
-    if (bits(d_in_range & (miss | (hit & rounded))) != 3) return std::nullopt;
+    if ((bits(d_in_range & (miss | (hit & rounded))) != 3) | !rest_valid) return std::nullopt;
     // The winner's value lies above the limit when the axis wins (its faithful rounding
     // too: the limit is a float) and below it when the limit wins, so max(tc, limit)
     // selects without a branch (a NaN tc gives the limit). Then (t_enter, t_exit) with
@@ -323,16 +327,19 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_general(co
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
     // Both paths meet in the four fields, not in a Hit: a Hit in memory written field by
     // field and copied whole stalls on store-to-load forwarding.
     Verdict verdict;
     T t_enter, t_exit;
     int face;
-    if (const std::optional<Hit<T>> h = aabb_certified_common(r, p.box)) {
+    // The straight-line path answers only for directions with every |d_i| in [2^-500,
+    // 2^500] (finite, nonzero), so it takes the rest of the validity rules as a flag
+    // folded into its one branch; anything it declines is validated in full first.
+    if (const std::optional<Hit<T>> h = aabb_certified_common(r, p.box, p.ok & valid_apart_from_direction(r))) {
         RAYPROOF_COUNT_QUERY();
         verdict = h->verdict, t_enter = h->t_enter, t_exit = h->t_exit, face = h->face;
     } else {
+        if (!p.ok || !valid(r)) return invalid_hit<T>();
         const Hit<T> g = aabb_certified_general(r, p.box);
         verdict = g.verdict, t_enter = g.t_enter, t_exit = g.t_exit, face = g.face;
     }

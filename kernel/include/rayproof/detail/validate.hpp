@@ -17,12 +17,15 @@ namespace rayproof::detail {
 // number (most queries are valid; the checks are joined with & for the same reason).
 template <class T> RAYPROOF_ALWAYS_INLINE T finite_probe(const T* v) { return ((v[0] - v[0]) + (v[1] - v[1])) + (v[2] - v[2]); }
 
-template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Ray<T>& r) {
-    const T* o = r.origin.data();
-    const T* d = r.direction.data();
+// valid(r) for a ray whose direction is known to be finite and nonzero.
+template <class T> RAYPROOF_ALWAYS_INLINE bool valid_apart_from_direction(const Ray<T>& r) {
     // t_min <= t_max is false when either is NaN; -inf / +inf are the allowed exceptions.
-    return (finite_probe(o) + finite_probe(d) == 0) & (r.t_min <= r.t_max) & (r.t_min != inf<T>) &
-           (r.t_max != -inf<T>) & ((d[0] != 0) | (d[1] != 0) | (d[2] != 0));
+    return (finite_probe(r.origin.data()) == 0) & (r.t_min <= r.t_max) & (r.t_min != inf<T>) & (r.t_max != -inf<T>);
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Ray<T>& r) {
+    const T* d = r.direction.data();
+    return valid_apart_from_direction(r) & (finite_probe(d) == 0) & ((d[0] != 0) | (d[1] != 0) | (d[2] != 0));
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Aabb<T>& b) {
