@@ -242,7 +242,6 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
     // t~ = fl(fl(p - o)·fl(1/d)); (lo - o, o - hi) is (t_lo, -t_hi)·d exactly as
     // rounded, rounding to nearest being symmetric.
     D2 V[3];
-    double s_[6], e_[6];
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC unroll 3
 #elif defined(__clang__)
@@ -250,10 +249,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
 #endif
     for (int i = 0; i < 3; ++i) {
         const double o = r.origin[i];
-        const SumOf<D2> se = two_sum(make(double(b.lo[i]), o), -make(o, double(b.hi[i])));
-        store(s_ + 2 * i, se.hi);
-        store(e_ + 2 * i, se.lo);
-        const D2 x = se.hi * splat(inv[i]);
+        const D2 x = (make(double(b.lo[i]), o) - make(o, double(b.hi[i]))) * splat(inv[i]);
         V[i] = min(x, -swap(x));
     }
     // m >= m2 >= m3 per lane, and the winning axes (w: entry, v: exit) from the lane
@@ -291,12 +287,13 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
     const double d_w = double(r.direction[w]), d_v = double(r.direction[v]);
     const int negative = bits(d01 < splat(0.0)) | (bits(d22 < splat(0.0)) & 1) << 2;  // bit i: d_i < 0
     const int neg_w = (negative >> w) & 1, neg_v = (negative >> v) & 1;
-    // s_ and e_ hold (lo - o, o - hi) per axis and their errors: the entry lane wants
-    // p - o, the exit lane o - p, so the value taken is negated where the plane is hi
-    // for the entry (d_w < 0) and lo for the exit (d_v < 0): by the signs of d.
     const D2 dd = make(d_w, d_v), tt = high26(m), dh = high26(dd);
-    const int entered = 2 * w + neg_w, left = 2 * v + 1 - neg_v;
-    const SumOf<D2> se = {times_sign(make(s_[entered], s_[left]), dd), times_sign(make(e_[entered], e_[left]), dd)};
+    // The entry lane wants p - o for the plane entered (hi when d_w < 0), the exit lane
+    // o - p for the plane left (lo when d_v < 0), split exactly by one two-lane two_sum:
+    // its s is the value the slab values above were made from (rounding to nearest is
+    // symmetric, so fl(hi - o) = -fl(o - hi)).
+    const double p_in = neg_w ? double(b.hi[w]) : double(b.lo[w]), p_out = neg_v ? double(b.lo[v]) : double(b.hi[v]);
+    const SumOf<D2> se = two_sum(make(p_in, double(r.origin[v])), -make(double(r.origin[w]), p_out));
     const D2 tc = tt + ((se.hi - tt * dh) + (se.lo - tt * (dd - dh))) * make(inv[w], inv[v]);
     const D2 am = abs(m);
     const M2 rounded = limit_wins | ((am >= splat(0x1p-400)) & (am <= splat(0x1p400))) | (se.hi == splat(0.0));
