@@ -332,7 +332,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
     // The straight-line path answers only for directions with every |d_i| in [2^-500,
     // 2^500] (finite, nonzero), so it takes the rest of the validity rules as a flag
     // folded into its one branch; anything it declines is validated in full first.
-    if (const std::optional<Hit<T>> h = aabb_certified_common(r, p.box, p.ok & valid_apart_from_direction(r))) {
+    const bool rest_valid = valid_apart_from_direction(r);
+    if (const std::optional<Hit<T>> h = aabb_certified_common(r, p.box, p.ok & rest_valid)) {
         RAYPROOF_COUNT_QUERY();
         verdict = h->verdict, t_enter = h->t_enter, t_exit = h->t_exit, face = h->face;
     } else {

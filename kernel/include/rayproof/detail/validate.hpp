@@ -25,7 +25,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE bool valid_apart_from_direction(const 
 
 template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Ray<T>& r) {
     const T* d = r.direction.data();
-    return valid_apart_from_direction(r) & (finite_probe(d) == 0) & ((d[0] != 0) | (d[1] != 0) | (d[2] != 0));
+    const bool rest = valid_apart_from_direction(r), finite = finite_probe(d) == 0;
+    return rest & finite & ((d[0] != 0) | (d[1] != 0) | (d[2] != 0));
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Aabb<T>& b) {
