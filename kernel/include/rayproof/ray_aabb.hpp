@@ -324,29 +324,13 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_general(co
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
-    // Both paths meet in the four fields, not in a Hit: a Hit in memory written field by
-    // field and copied whole stalls on store-to-load forwarding.
-    Verdict verdict;
-    T t_enter, t_exit;
-    int face;
     // The straight-line path answers only for directions with every |d_i| in [2^-500,
     // 2^500] (finite, nonzero), so it takes the rest of the validity rules as a flag
     // folded into its one branch; anything it declines is validated in full first.
     const bool rest_valid = valid_apart_from_direction(r);
-    if (const std::optional<Hit<T>> h = aabb_certified_common(r, p.box, p.ok & rest_valid)) {
-        RAYPROOF_COUNT_QUERY();
-        verdict = h->verdict, t_enter = h->t_enter, t_exit = h->t_exit, face = h->face;
-    } else {
-        if (!p.ok || !valid(r)) return invalid_hit<T>();
-        const Hit<T> g = aabb_certified_general(r, p.box);
-        verdict = g.verdict, t_enter = g.t_enter, t_exit = g.t_exit, face = g.face;
-    }
-    Hit<T> out;
-    out.verdict = verdict;
-    out.t_enter = t_enter;
-    out.t_exit = t_exit;
-    out.face = face;
-    return out;
+    return common_or_general(aabb_certified_common(r, p.box, p.ok & rest_valid), [&] {
+        return !p.ok || !valid(r) ? invalid_hit<T>() : aabb_certified_general(r, p.box);
+    });
 }
 
 }  // namespace rayproof::detail

@@ -125,9 +125,10 @@ public:
         return exact_sign([&](auto tag) { return num<typename decltype(tag)::type>(); }) == 0;
     }
     Interval<double> enclose() const { return divide_signed(num_, den_, sden_); }
-    // t faithfully rounded to T, given its enclosure t (den_sign() != 0): from the
-    // enclosure when it pins one float; for double next from double-word num and den
-    // (detail/compensated.hpp); else exactly (went_exact is then set).
+    // t faithfully rounded to T, given its enclosure t (den_sign() != 0): from
+    // double-word num and den first (the straight-line path's rounding, see
+    // plane_compensated_faithful); next from the enclosure when it pins one float; else
+    // exactly (went_exact is then set).
     T faithful(const Interval<double>& t, bool& went_exact) const {
         if (const std::optional<T> c = plane_compensated_faithful(*r_, *p_, sden_)) return *c;
         if (const std::optional<T> f = faithful_from_enclosure<T>(t)) return *f;
@@ -266,21 +267,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_certified_general(c
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
-    // Both paths meet in the three fields, not in a Hit (see ray_aabb.hpp).
-    Verdict verdict;
-    T t_enter, t_exit;
-    if (const std::optional<Hit<T>> h = plane_certified_common(r, p.plane)) {
-        RAYPROOF_COUNT_QUERY();
-        verdict = h->verdict, t_enter = h->t_enter, t_exit = h->t_exit;
-    } else {
-        const Hit<T> g = plane_certified_general(r, p.plane);
-        verdict = g.verdict, t_enter = g.t_enter, t_exit = g.t_exit;
-    }
-    Hit<T> out;
-    out.verdict = verdict;
-    out.t_enter = t_enter;
-    out.t_exit = t_exit;
-    return out;
+    return common_or_general(plane_certified_common(r, p.plane), [&] { return plane_certified_general(r, p.plane); });
 }
 
 }  // namespace rayproof::detail

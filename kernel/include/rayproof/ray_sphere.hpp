@@ -633,21 +633,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_certified_general(
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
-    // Both paths meet in the three fields, not in a Hit (see ray_aabb.hpp).
-    Verdict verdict;
-    T t_enter, t_exit;
-    if (const std::optional<Hit<T>> h = sphere_certified_common(r, p.sphere)) {
-        RAYPROOF_COUNT_QUERY();
-        verdict = h->verdict, t_enter = h->t_enter, t_exit = h->t_exit;
-    } else {
-        const Hit<T> g = sphere_certified_general(r, p.sphere);
-        verdict = g.verdict, t_enter = g.t_enter, t_exit = g.t_exit;
-    }
-    Hit<T> out;
-    out.verdict = verdict;
-    out.t_enter = t_enter;
-    out.t_exit = t_exit;
-    return out;
+    return common_or_general(sphere_certified_common(r, p.sphere), [&] { return sphere_certified_general(r, p.sphere); });
 }
 
 }  // namespace rayproof::detail
