@@ -33,7 +33,6 @@ struct M2 {
 };
 RAYPROOF_ALWAYS_INLINE D2 make(double lane0, double lane1) { return {_mm_set_pd(lane1, lane0)}; }
 RAYPROOF_ALWAYS_INLINE D2 splat(double x) { return {_mm_set1_pd(x)}; }
-RAYPROOF_ALWAYS_INLINE void store(double* p, D2 a) { _mm_storeu_pd(p, a.v); }
 RAYPROOF_ALWAYS_INLINE double lane0(D2 a) { return _mm_cvtsd_f64(a.v); }
 RAYPROOF_ALWAYS_INLINE double lane1(D2 a) { return _mm_cvtsd_f64(_mm_unpackhi_pd(a.v, a.v)); }
 RAYPROOF_ALWAYS_INLINE D2 swap(D2 a) { return {_mm_shuffle_pd(a.v, a.v, 1)}; }
@@ -49,8 +48,6 @@ RAYPROOF_ALWAYS_INLINE D2 abs(D2 a) { return {_mm_andnot_pd(_mm_set1_pd(-0.0), a
 // Lane 1 negated, both lanes negated (exact).
 RAYPROOF_ALWAYS_INLINE D2 negate_lane1(D2 a) { return {_mm_xor_pd(a.v, _mm_set_pd(-0.0, 0.0))}; }
 RAYPROOF_ALWAYS_INLINE D2 operator-(D2 a) { return {_mm_xor_pd(a.v, _mm_set1_pd(-0.0))}; }
-// a negated in the lanes where s is negative (s's sign bits; exact).
-RAYPROOF_ALWAYS_INLINE D2 times_sign(D2 a, D2 s) { return {_mm_xor_pd(a.v, _mm_and_pd(s.v, _mm_set1_pd(-0.0)))}; }
 RAYPROOF_ALWAYS_INLINE M2 operator<(D2 a, D2 b) { return {_mm_cmplt_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE M2 operator>(D2 a, D2 b) { return {_mm_cmpgt_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE M2 operator<=(D2 a, D2 b) { return {_mm_cmple_pd(a.v, b.v)}; }
@@ -75,7 +72,6 @@ struct M2 {
 };
 RAYPROOF_ALWAYS_INLINE D2 make(double lane0, double lane1) { return {lane0, lane1}; }
 RAYPROOF_ALWAYS_INLINE D2 splat(double x) { return {x, x}; }
-RAYPROOF_ALWAYS_INLINE void store(double* p, D2 x) { p[0] = x.a, p[1] = x.b; }
 RAYPROOF_ALWAYS_INLINE double lane0(D2 x) { return x.a; }
 RAYPROOF_ALWAYS_INLINE double lane1(D2 x) { return x.b; }
 RAYPROOF_ALWAYS_INLINE D2 swap(D2 x) { return {x.b, x.a}; }
@@ -89,9 +85,6 @@ RAYPROOF_ALWAYS_INLINE D2 max(D2 x, D2 y) { return {x.a > y.a ? x.a : y.a, x.b >
 RAYPROOF_ALWAYS_INLINE D2 abs(D2 x) { return {std::abs(x.a), std::abs(x.b)}; }
 RAYPROOF_ALWAYS_INLINE D2 negate_lane1(D2 x) { return {x.a, -x.b}; }
 RAYPROOF_ALWAYS_INLINE D2 operator-(D2 x) { return {-x.a, -x.b}; }
-RAYPROOF_ALWAYS_INLINE D2 times_sign(D2 x, D2 s) {
-    return {std::signbit(s.a) ? -x.a : x.a, std::signbit(s.b) ? -x.b : x.b};
-}
 RAYPROOF_ALWAYS_INLINE M2 operator<(D2 x, D2 y) { return {x.a < y.a, x.b < y.b}; }
 RAYPROOF_ALWAYS_INLINE M2 operator>(D2 x, D2 y) { return {x.a > y.a, x.b > y.b}; }
 RAYPROOF_ALWAYS_INLINE M2 operator<=(D2 x, D2 y) { return {x.a <= y.a, x.b <= y.b}; }
