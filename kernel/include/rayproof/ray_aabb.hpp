@@ -92,8 +92,8 @@ RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
 // two doubles enclosing t, and t itself when it is representable. Needs |s|, |t~| >=
 // 2^-960 and 1/d normal (no underflow in r~ or delta), |t~|, |d| <= 2^995.
 // faithful_slab_double is the correction in double, branch-free: {t', ok}; ok is false
-// where the conditions above fail. p == o gives exactly +0 (ok). faithful_to rounds it
-// to T.
+// where the conditions above fail. p == o gives exactly +0 (ok). faithful_to
+// (detail/slab_certified.hpp) rounds it to T.
 struct FaithfulDouble {
     double t;
     bool ok;
@@ -110,18 +110,6 @@ RAYPROOF_ALWAYS_INLINE FaithfulDouble faithful_slab_double(double p, double o, d
     const double t = approx + (se.lo - mul_sub(approx, d, se.hi)) * inv;
     const bool zero = se.hi == 0;
     return {zero ? 0.0 : t, bool(int(in_range) | int(zero))};
-}
-// The faithfully rounded double to T: a faithfully rounded double rounded to nearest T
-// is a faithfully rounded T (the two T values enclosing t enclose the double); beyond
-// the largest finite T the enclosing finite neighbour is answered, as exact_faithful
-// does.
-template <class T> T faithful_to(double t) {
-    if constexpr (std::is_same_v<T, double>) {
-        return t;
-    } else {
-        constexpr double big = std::numeric_limits<T>::max();
-        return static_cast<T>(std::min(std::max(t, -big), big));
-    }
 }
 template <class T> std::optional<T> faithful_slab_value(T p, T o, T d) {
     const double inv = 1.0 / double(d);

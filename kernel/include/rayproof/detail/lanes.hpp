@@ -1,6 +1,7 @@
 // rayproof/detail/lanes.hpp — two doubles computed side by side, for the certified
-// box path, which runs the entry and the (negated) exit problem in the two lanes
-// (ray_aabb.hpp, aabb_certified_common).
+// straight-line paths: the box runs the entry and the (negated) exit problem in the two
+// lanes (ray_aabb.hpp, aabb_certified_common), the plane its numerator and denominator
+// (ray_plane.hpp, plane_pin).
 //
 // Each operation is the correctly rounded IEEE operation on each lane, so a lane
 // computes exactly what the same scalar code computes: on x86-64 with SSE2 (every
@@ -20,8 +21,17 @@
 #include <emmintrin.h>
 #define RAYPROOF_LANES_SSE2 1
 #endif
+#if defined(RAYPROOF_LANES_SSE2) && defined(__FMA__)
+#include <immintrin.h>
+#endif
 
 namespace rayproof::detail::lanes {
+
+// The significand cut to its leading 26 bits (the last 27 stored bits cleared): exact
+// truncation towards zero, |a - high26(a)| < 2^-25 |a| for normal a.
+RAYPROOF_ALWAYS_INLINE double high26(double a) {
+    return std::bit_cast<double>(std::bit_cast<std::uint64_t>(a) & ~std::uint64_t(0x7ffffff));
+}
 
 #if defined(RAYPROOF_LANES_SSE2)
 
@@ -56,11 +66,30 @@ RAYPROOF_ALWAYS_INLINE M2 operator==(D2 a, D2 b) { return {_mm_cmpeq_pd(a.v, b.v
 RAYPROOF_ALWAYS_INLINE M2 operator&(M2 a, M2 b) { return {_mm_and_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE M2 operator|(M2 a, M2 b) { return {_mm_or_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE int bits(M2 a) { return _mm_movemask_pd(a.v); }
-// The significand cut to its leading 26 bits (the last 27 stored bits cleared): exact
-// truncation towards zero, |a - high26(a)| < 2^-25 |a| for normal a.
+// high26 in both lanes.
 RAYPROOF_ALWAYS_INLINE D2 high26(D2 a) { return {_mm_and_pd(a.v, _mm_castsi128_pd(_mm_set1_epi64x(~std::int64_t(0x7ffffff))))}; }
 // The lanes where the mask is set, +0 elsewhere.
 RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 a) { return {_mm_and_pd(m.v, a.v)}; }
+
+// hi = fl(a·b) and lo = a·b - hi exactly, in each lane (see exact_product below).
+struct Product {
+    D2 hi, lo;
+};
+#if defined(__FMA__)
+RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
+    const __m128d p = _mm_mul_pd(a.v, b.v);
+    return {{p}, {_mm_fmsub_pd(a.v, b.v, p)}};
+}
+#else
+RAYPROOF_ALWAYS_INLINE D2 high_part(D2 a) {  // Veltkamp's split: a - high_part(a) is exact
+    const __m128d c = _mm_mul_pd(_mm_set1_pd(134217729.0), a.v);  // 2^27 + 1
+    return {_mm_sub_pd(c, _mm_sub_pd(c, a.v))};
+}
+RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
+    const D2 ah = high_part(a), bh = high_part(b), al = a - ah, bl = b - bh, p = a * b;
+    return {p, (((ah * bh - p) + ah * bl) + al * bh) + al * bl};
+}
+#endif
 
 #else  // two scalars, the same semantics lane by lane
 
@@ -93,12 +122,29 @@ RAYPROOF_ALWAYS_INLINE M2 operator==(D2 x, D2 y) { return {x.a == y.a, x.b == y.
 RAYPROOF_ALWAYS_INLINE M2 operator&(M2 x, M2 y) { return {x.a && y.a, x.b && y.b}; }
 RAYPROOF_ALWAYS_INLINE M2 operator|(M2 x, M2 y) { return {x.a || y.a, x.b || y.b}; }
 RAYPROOF_ALWAYS_INLINE int bits(M2 x) { return int(x.a) | (int(x.b) << 1); }
-RAYPROOF_ALWAYS_INLINE double high26(double a) {
-    return std::bit_cast<double>(std::bit_cast<std::uint64_t>(a) & ~std::uint64_t(0x7ffffff));
-}
 RAYPROOF_ALWAYS_INLINE D2 high26(D2 x) { return {high26(x.a), high26(x.b)}; }
 RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 x) { return {m.a ? x.a : 0.0, m.b ? x.b : 0.0}; }
 
+struct Product {
+    D2 hi, lo;
+};
+RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
+    const D2 p = a * b;
+    return {p, {std::fma(a.a, b.a, -p.a), std::fma(a.b, b.b, -p.b)}};
+}
+
 #endif
+
+// exact_product(a, b): the exact product split in two, by a fused multiply-add where the
+// target has one, else by Dekker's product ("A floating-point technique for extending
+// the available precision", Numer. Math. 18, 1971) on Veltkamp's split (each factor
+// a = ah + al exactly, ah and al of at most 26 significant bits, so the four partial
+// products are exact and so is every step of the error's sum). Both are exact in a lane
+// where |a|, |b| <= 2^995 (the split cannot overflow), neither is subnormal, and
+// |hi| >= 2^-916 or a factor is 0: then the exponents of a and b add up to at least -918,
+// every partial product is a multiple of 2^-1022 and nothing is lost to underflow. The
+// fused form is written out with its own intrinsic, and the split form is used only
+// where the target has no fused multiply-add, so contraction (-ffp-contract=fast) cannot
+// fuse fl(a·b) into a later subtraction and change the error term.
 
 }  // namespace rayproof::detail::lanes

@@ -24,7 +24,10 @@
 #include <rayproof/detail/interval.hpp>
 #include <rayproof/types.hpp>
 
+#include <algorithm>
+#include <limits>
 #include <optional>
+#include <type_traits>
 
 namespace rayproof::detail {
 
@@ -43,6 +46,19 @@ inline thread_local ExactStageCounters exact_stage_counters;
 #define RAYPROOF_COUNT_EXACT(flag) ((void)(flag))
 #define RAYPROOF_COUNT_FLUSH(flag) ((void)(flag))
 #endif
+
+// The faithfully rounded double to T: a faithfully rounded double rounded to nearest T
+// is a faithfully rounded T (the two T values enclosing t enclose the double); beyond
+// the largest finite T the enclosing finite neighbour is answered, as exact_faithful
+// does.
+template <class T> T faithful_to(double t) {
+    if constexpr (std::is_same_v<T, double>) {
+        return t;
+    } else {
+        constexpr double big = std::numeric_limits<T>::max();
+        return static_cast<T>(std::min(std::max(t, -big), big));
+    }
+}
 
 // The certified answer from a straight-line path when it answered (`common`), else from
 // `general()`, a call of the general path. The two meet in the four fields, not in a Hit:

@@ -17,10 +17,16 @@ namespace rayproof::detail {
 // number (most queries are valid; the checks are joined with & for the same reason).
 template <class T> RAYPROOF_ALWAYS_INLINE T finite_probe(const T* v) { return ((v[0] - v[0]) + (v[1] - v[1])) + (v[2] - v[2]); }
 
+// The rules on t_min and t_max alone: t_min <= t_max is false when either is NaN; -inf
+// and +inf are the allowed exceptions.
+template <class T> RAYPROOF_ALWAYS_INLINE bool valid_range(const Ray<T>& r) {
+    return (r.t_min <= r.t_max) & (r.t_min != inf<T>) & (r.t_max != -inf<T>);
+}
+
 // valid(r) for a ray whose direction is known to be finite and nonzero.
 template <class T> RAYPROOF_ALWAYS_INLINE bool valid_apart_from_direction(const Ray<T>& r) {
-    // t_min <= t_max is false when either is NaN; -inf / +inf are the allowed exceptions.
-    return (finite_probe(r.origin.data()) == 0) & (r.t_min <= r.t_max) & (r.t_min != inf<T>) & (r.t_max != -inf<T>);
+    const bool range = valid_range(r);
+    return (finite_probe(r.origin.data()) == 0) & range;
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Ray<T>& r) {
