@@ -9,7 +9,13 @@
 //     answer (the stage is not dead), while exact midpoints and exactly representable
 //     quotients never produce a wrong double;
 //   - SphereQuadratic::compensated_sign_at: whenever it decides, it is the exact sign of
-//     q(g) (sign_at), at the floats around both roots, where q changes sign.
+//     q(g) (sign_at), at the floats around both roots, where q changes sign;
+//   - lanes::exact_product: hi + lo is the exact product in both lanes, over the range
+//     its callers guard (zeros, short and full mantissas, products near 2^-900);
+//   - plane_pin (the certified plane's straight-line path): every claim it makes is
+//     exact (t strictly between c's neighbours, the rough enclosure, t == 0, a ray in
+//     or parallel to the plane), on generic, cancelling, nearly parallel, integer and
+//     wide-exponent input; and it pins nearly every generic crossing (not dead).
 // Every random test is seeded: RAYPROOF_SEED=<decimal> in the environment replays a run;
 // the seed is printed with every failure.
 #include <rayproof/detail/compensated.hpp>
@@ -322,6 +328,141 @@ TEST(CompensatedSphere, SignAtRootsIsExactWhenDecided) {
         }
     }
     EXPECT_GT(decided, tried * 9 / 10) << decided << " of " << tried;
+}
+
+TEST(LanesExactProduct, HiPlusLoIsTheProduct) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    using namespace rayproof::detail::lanes;
+    int checked = 0;
+    for (int it = 0; it < 50000; ++it) {
+        double a[2], b[2];
+        for (int k = 0; k < 2; ++k) {
+            a[k] = (rng() % 16 == 0) ? 0.0 : random_double(rng, 490);
+            b[k] = (rng() % 16 == 0) ? 0.0 : random_double(rng, 490);
+            if (it % 3 == 0 && a[k] != 0 && b[k] != 0)  // products near the 2^-900 floor
+                b[k] = std::ldexp(b[k], -900 - std::ilogb(a[k]) - std::ilogb(b[k]));
+        }
+        const Product p = exact_product(make(a[0], a[1]), make(b[0], b[1]));
+        const double hi[2] = {lane0(p.hi), lane1(p.hi)}, lo[2] = {lane0(p.lo), lane1(p.lo)};
+        for (int k = 0; k < 2; ++k) {
+            const bool in_range = std::abs(hi[k]) >= 0x1p-916 || a[k] == 0 || b[k] == 0;
+            if (!in_range || std::fpclassify(a[k]) == FP_SUBNORMAL || std::fpclassify(b[k]) == FP_SUBNORMAL) continue;
+            ++checked;
+            ASSERT_EQ(Q(hi[k]) + Q(lo[k]), Q(a[k]) * Q(b[k])) << "lane " << k << ": " << hex(a[k]) << " * " << hex(b[k]);
+        }
+    }
+    EXPECT_GT(checked, 90000);
+}
+
+// One plane and ray for plane_pin, with the exact N = offset - n·o and D = n·d.
+struct PinCase {
+    rayproof::Ray<double> ray;
+    rayproof::Plane<double> plane;
+    mpq_class N, D;
+};
+PinCase pin_case(std::mt19937_64& rng, int kind) {
+    PinCase c;
+    auto value = [&](int e) { return random_double(rng, e); };
+    auto small_int = [&] { return double(int(rng() % 17) - 8); };
+    for (int j = 0; j < 3; ++j) {
+        switch (kind) {
+            case 0:  // generic
+            case 1:  // cancelling numerator, nearly parallel direction (set below)
+                c.plane.normal[j] = value(4);
+                c.ray.origin[j] = value(8);
+                c.ray.direction[j] = value(4);
+                break;
+            case 2:  // integers: exact products, exact zeros, rays in and parallel to the plane
+                c.plane.normal[j] = small_int();
+                c.ray.origin[j] = small_int();
+                c.ray.direction[j] = small_int();
+                break;
+            default:  // wide exponents
+                c.plane.normal[j] = value(200);
+                c.ray.origin[j] = value(240);
+                c.ray.direction[j] = value(200);
+        }
+    }
+    const auto& n = c.plane.normal;
+    c.plane.offset = kind == 2 ? small_int() : value(kind == 3 ? 440 : 8);
+    if (kind == 1) {
+        const double w[3] = {value(4), value(4), value(4)};
+        for (int j = 0; j < 3; ++j)  // d = n × w: n·d ~ 0, up to the cross product's roundings
+            c.ray.direction[j] = n[(j + 1) % 3] * w[(j + 2) % 3] - n[(j + 2) % 3] * w[(j + 1) % 3];
+        if (rng() % 2) c.ray.direction[rng() % 3] *= 1 + 0x1p-40;
+        c.plane.offset = n.dot(c.ray.origin) + ((rng() % 2) ? 0.0 : std::ldexp(value(4), -20));
+    }
+    if (kind == 2 && rng() % 3 == 0) c.plane.offset = n.dot(c.ray.origin);  // origin in the plane
+    c.N = Q(c.plane.offset);
+    c.D = 0;
+    for (int j = 0; j < 3; ++j) {
+        c.N -= Q(n[j]) * Q(c.ray.origin[j]);
+        c.D += Q(n[j]) * Q(c.ray.direction[j]);
+    }
+    return c;
+}
+
+TEST(PlanePin, EveryClaimIsExact) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    int pinned[4] = {}, rough = 0, zero = 0, lying = 0, parallel = 0;
+    const int per_kind = 20000;
+    for (int it = 0; it < 4 * per_kind; ++it) {
+        const int kind = it % 4;
+        const PinCase c = pin_case(rng, kind);
+        const PlanePin x = plane_pin(c.ray, c.plane);
+        std::ostringstream what;
+        what << "kind " << kind << " ray " << c.ray << " plane " << c.plane << " c = " << hex(x.c);
+        if (x.pinned || x.rough || x.zero) {
+            ASSERT_NE(sgn(c.D), 0) << what.str();
+        }
+        // a <= t (or a < t when strict), an infinite a compared as such
+        const auto below = [](double a, const mpq_class& t, bool strict) {
+            if (std::isinf(a)) return a < 0;
+            return strict ? Q(a) < t : Q(a) <= t;
+        };
+        const auto above = [](double a, const mpq_class& t, bool strict) {
+            if (std::isinf(a)) return a > 0;
+            return strict ? t < Q(a) : t <= Q(a);
+        };
+        if (x.pinned) {
+            ++pinned[kind];
+            ASSERT_TRUE(std::isfinite(x.c)) << what.str();
+            const mpq_class t = c.N / c.D;
+            ASSERT_TRUE(below(step_down(x.c), t, true)) << what.str();
+            ASSERT_TRUE(above(step_up(x.c), t, true)) << what.str();
+        }
+        if (x.rough) {
+            rough += !x.pinned;
+            ASSERT_FALSE(std::isnan(x.rough_lo) || std::isnan(x.rough_hi)) << what.str();
+            const mpq_class t = c.N / c.D;
+            ASSERT_TRUE(below(x.rough_lo, t, false)) << what.str();
+            ASSERT_TRUE(above(x.rough_hi, t, false)) << what.str();
+        }
+        if (x.zero) {
+            ++zero;
+            ASSERT_EQ(sgn(c.N), 0) << what.str();
+        }
+        if (x.lying) {
+            ++lying;
+            ASSERT_EQ(sgn(c.N), 0) << what.str();
+            ASSERT_EQ(sgn(c.D), 0) << what.str();
+        }
+        if (x.parallel) {
+            ++parallel;
+            ASSERT_NE(sgn(c.N), 0) << what.str();
+            ASSERT_EQ(sgn(c.D), 0) << what.str();
+        }
+    }
+    // Not dead: nearly every generic crossing is pinned, and every other claim is made.
+    EXPECT_GT(pinned[0], per_kind * 99 / 100);
+    EXPECT_GT(pinned[3], per_kind * 9 / 10);
+    EXPECT_GT(pinned[2], per_kind / 2);
+    EXPECT_GT(rough, 100);
+    EXPECT_GT(zero, 100);
+    EXPECT_GT(lying, 10);
+    EXPECT_GT(parallel, 100);
 }
 
 }  // namespace
