@@ -34,7 +34,7 @@ MUTATIONS=(
   "plane-in-plane-miss|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/if \(x\.in_plane\(\)\) \{/if (false \&\& x.in_plane()) {/|Plane: a ray lying in the plane reported as a miss"
   "sphere-distance-no-bound|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/if \(n - rad > g11 \* \(n \+ sum_dl \+ sum_p\) \+ 0x1p-500\) return h;/if (n - rad > 0) return h;/|certified Sphere straight-line path: a miss taken from the estimated distance of the line, without its error bound"
   "sphere-root-no-proof|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/const double thr = 2 \* \(qx\.err \+/const double thr = 0 * (qx.err +/|certified Sphere straight-line path: the signs of q next to a root taken from floating point, without their bound"
-  "plane-pin-no-bound|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/\(2 \* e_fixed \+ 0x1p-1020\)/(0x1p-1020)/|certified Plane: the straight-line path's proof that t lies next to its candidate without the residual's error bound"
+  "plane-pin-no-bound|ray_plane_fuzz|kernel/include/rayproof/detail/compensated.hpp|s/\(2 \* e \+ 0x1p-1020\)/(0 * e + 0x1p-1020)/|certified Plane: the straight-line path's proof that t lies next to its candidate without the residual's error bound"
   "sphere-tangent-miss|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/hit = sd >= 0;/hit = sd > 0;/|Sphere: an exactly tangent ray (zero discriminant) reported as a miss"
   "exact-two-sum-sign|ray_obb_fuzz|kernel/include/rayproof/detail/exact.hpp|s/return \{s, \(a - av\) \+ \(b - bv\)\};/return {s, (a - av) - (b - bv)};/|exact arithmetic: two_sum's error term with a wrong sign"
 )

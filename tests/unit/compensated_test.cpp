@@ -1,13 +1,11 @@
 // Unit tests of rayproof/detail/compensated.hpp (the double-word stage between the
 // interval filter and exact arithmetic) against GMP rationals:
-//   - CompensatedSum: whenever ok(), |hi + lo - exact sum| <= bound(), on random sums
-//     of products over the whole exponent range and on sums built to cancel;
-//   - residual_sign: whenever it decides, it is the exact sign of N - g·D, including
-//     at the neighbours of N/D and where N - g·D is tiny or zero;
-//   - compensated_faithful_quotient: whenever it answers, the answer is a faithful
-//     rounding of N/D, exactly N/D when that is a double; and on generic input it does
-//     answer (the stage is not dead), while exact midpoints and exactly representable
-//     quotients never produce a wrong double;
+//   - quotient_sums: whenever ok, |hi + lo - exact sum| <= bound in both lanes, on
+//     random sums of three and six products over a wide exponent range and on sums
+//     built to cancel; exact sums get a zero bound; in_range rejects what it must;
+//   - pin_quotient: whenever it pins, the candidate is a faithful rounding of N/D,
+//     exactly N/D when that is a double; on generic input it does pin (the stage is not
+//     dead), while exact midpoints never produce a wrong double;
 //   - SphereQuadratic::compensated_sign_at: whenever it decides, it is the exact sign of
 //     q(g) (sign_at), at the floats around both roots, where q changes sign;
 //   - lanes::exact_product: hi + lo is the exact product in both lanes, over the range
@@ -67,168 +65,87 @@ double random_double(std::mt19937_64& rng, int e) {
     return (rng() & 1) ? -v : v;
 }
 
-// A sum of products with its exact value: `terms` products x·y (and one plain term).
-struct Sum {
-    CompensatedSum cs;
-    mpq_class exact = 0;
+// N (lane 0) and D (lane 1) as quotient_sums takes them, with their exact values: a start
+// and P products per lane (unused products of a lane are 0·0).
+struct Sums {
+    QuotientSums qs;
+    mpq_class N = 0, D = 0;
     std::string text;
 };
-Sum random_sum(std::mt19937_64& rng, int terms, int e) {
-    Sum s;
-    const double c = random_double(rng, e);
-    s.cs.add(c);
-    s.exact += Q(c);
-    s.text = hex(c);
-    for (int i = 0; i < terms; ++i) {
-        const double x = random_double(rng, e / 2), y = random_double(rng, e / 2);
-        s.cs.add_product(x, y);
-        s.exact += Q(x) * Q(y);
-        s.text += " + " + hex(x) + "*" + hex(y);
+template <int P> Sums make_sums(double n0, double d0, const double (&x)[2][P], const double (&y)[2][P]) {
+    using namespace rayproof::detail::lanes;
+    Sums s;
+    D2 a[P], b[P];
+    M2 in = in_range(make(n0, d0), splat(0x1p1000));
+    s.N = Q(n0);
+    s.D = Q(d0);
+    s.text = "N = " + hex(n0) + ", D = " + hex(d0);
+    for (int k = 0; k < P; ++k) {
+        a[k] = make(x[0][k], x[1][k]);
+        b[k] = make(y[0][k], y[1][k]);
+        in = in & in_range(a[k]) & in_range(b[k]);
+        s.N += Q(x[0][k]) * Q(y[0][k]);
+        s.D += Q(x[1][k]) * Q(y[1][k]);
+        s.text += " | " + hex(x[0][k]) + "*" + hex(y[0][k]) + ", " + hex(x[1][k]) + "*" + hex(y[1][k]);
     }
+    s.qs = quotient_sums(make(n0, d0), a, b, in);
     return s;
 }
-// A sum that cancels: c - Σ x_i y_i with c the rounded value of the products' sum.
-Sum cancelling_sum(std::mt19937_64& rng, int terms, int e) {
-    std::vector<double> x(terms), y(terms);
+// Random sums over exponents [-e, e], P products per lane; `cancel` makes N's start the
+// rounded negative of its products' sum, so N cancels to its rounding errors.
+template <int P> Sums random_sums(std::mt19937_64& rng, int e, bool cancel) {
+    double x[2][P], y[2][P];
     double approx = 0;
-    for (int i = 0; i < terms; ++i) {
-        x[i] = random_double(rng, e / 2);
-        y[i] = random_double(rng, e / 2);
-        approx += x[i] * y[i];
-    }
-    Sum s;
-    s.cs.add(approx);
-    s.exact += Q(approx);
-    s.text = hex(approx);
-    for (int i = 0; i < terms; ++i) {
-        s.cs.add_product(-x[i], y[i]);
-        s.exact -= Q(x[i]) * Q(y[i]);
-        s.text += " - " + hex(x[i]) + "*" + hex(y[i]);
-    }
-    return s;
+    for (int l = 0; l < 2; ++l)
+        for (int k = 0; k < P; ++k) {
+            x[l][k] = (rng() % 8 == 0) ? 0.0 : random_double(rng, e);
+            y[l][k] = random_double(rng, e);
+            if (l == 0) approx += x[l][k] * y[l][k];
+        }
+    const double n0 = cancel ? -approx : random_double(rng, 2 * e), d0 = (rng() % 2) ? 0.0 : random_double(rng, 2 * e);
+    return make_sums<P>(n0, d0, x, y);
 }
 
-// A sum whose terms spread over ~300 binades around 2^`center`: the two_sum errors are
-// then of many magnitudes and their floating-point sum c is rarely exact.
-Sum spread_sum(std::mt19937_64& rng, int terms, int center) {
-    Sum s;
-    for (int i = 0; i < terms; ++i) {
-        const double x = std::ldexp(random_double(rng, 150), center);
-        s.cs.add(x);
-        s.exact += Q(x);
-        s.text += (i ? " + " : "") + hex(x);
-    }
-    return s;
-}
-
-TEST(CompensatedSum, BoundHoldsOnSpreadTerms) {
+TEST(QuotientSums, BoundHoldsWheneverOk) {
     SEED_TRACE();
     auto rng = make_rng();
-    int inexact = 0;
-    for (int it = 0; it < 20000; ++it) {
-        const Sum s = spread_sum(rng, 3 + int(rng() % 20), int(rng() % 1200) - 600);
-        if (!s.cs.ok()) continue;
-        const mpq_class err = abs_q(Q(s.cs.hi()) + Q(s.cs.lo()) - s.exact);
-        inexact += err != 0;
-        ASSERT_LE(err, Q(s.cs.bound())) << s.text;
-    }
-    EXPECT_GT(inexact, 1000);  // the bound is exercised, not only exact sums
-}
-
-TEST(CompensatedSum, BoundHoldsWheneverOk) {
-    SEED_TRACE();
-    auto rng = make_rng();
-    int ok = 0;
-    for (int it = 0; it < 20000; ++it) {
-        const int e = (it % 3 == 0) ? 1000 : (it % 3 == 1 ? 60 : 400);
-        const int terms = 1 + int(rng() % 12);
-        const Sum s = (it % 2) ? random_sum(rng, terms, e) : cancelling_sum(rng, terms, e);
-        if (!s.cs.ok()) continue;
+    int ok = 0, inexact = 0;
+    for (int it = 0; it < 40000; ++it) {
+        const int e = (it % 3 == 0) ? 220 : (it % 3 == 1 ? 30 : 4);
+        const bool cancel = it % 4 == 0;
+        const Sums s = (it % 2) ? random_sums<3>(rng, e, cancel) : random_sums<6>(rng, e, cancel);
+        if (!s.qs.ok) continue;
         ++ok;
-        const mpq_class err = abs_q(Q(s.cs.hi()) + Q(s.cs.lo()) - s.exact);
-        ASSERT_LE(err, Q(s.cs.bound())) << s.text;
+        using namespace rayproof::detail::lanes;
+        const mpq_class en = abs_q(Q(lane0(s.qs.hi)) + Q(lane0(s.qs.lo)) - s.N);
+        const mpq_class ed = abs_q(Q(lane1(s.qs.hi)) + Q(lane1(s.qs.lo)) - s.D);
+        inexact += en != 0;
+        ASSERT_LE(en, Q(lane0(s.qs.bound))) << s.text;
+        ASSERT_LE(ed, Q(lane1(s.qs.bound))) << s.text;
+        ASSERT_LE(std::abs(lane0(s.qs.lo)), 0x1p-53 * std::abs(lane0(s.qs.hi))) << s.text;  // renormalized
     }
-    EXPECT_GT(ok, 10000);  // most random sums are in range (the test checks something)
+    EXPECT_GT(ok, 30000);       // most random sums are in range (the test checks something)
+    EXPECT_GT(inexact, 10000);  // the bound is exercised, not only exact sums
 }
 
-TEST(CompensatedSum, GuardsRejectInexactProducts) {
-    CompensatedSum tiny;
-    tiny.add_product(0x1p-600, 0x1.8p-600);  // product far below 2^-916: error term may be lost
-    EXPECT_FALSE(tiny.ok());
-    CompensatedSum zero;
-    zero.add_product(0.0, 0x1p-1074);  // an exact zero is fine
-    zero.add(1.0);
-    EXPECT_TRUE(zero.ok());
-    CompensatedSum huge;
-    huge.add(0x1p1010);
-    EXPECT_FALSE(huge.ok());
-    CompensatedSum nan;
-    nan.add_product(0x1p1000, 0x1p1000);  // overflow
-    EXPECT_FALSE(nan.ok());
-}
-
-// The residual's decided signs are exact, at random g and at the neighbours of N/D.
-TEST(CompensatedQuotient, ResidualSignIsExactWhenDecided) {
-    SEED_TRACE();
-    auto rng = make_rng();
-    int decided = 0, tried = 0;
-    for (int it = 0; it < 20000; ++it) {
-        const int e = (it % 2) ? 60 : 300;
-        const Sum n = (it % 3 == 0) ? cancelling_sum(rng, 3, e) : random_sum(rng, 3, e);
-        const Sum d = random_sum(rng, 3, e);
-        if (!n.cs.ok() || !d.cs.ok() || d.exact == 0 || d.cs.hi() == 0) continue;
-        const double t = n.cs.hi() / d.cs.hi();
-        const double gs[] = {t, step_up(t), step_down(t), random_double(rng, e)};
-        for (double g : gs) {
-            if (!std::isfinite(g)) continue;
-            ++tried;
-            const int s = residual_sign(n.cs, d.cs, n.cs.bound(), d.cs.bound(), g);
-            if (s == 2) continue;
-            ++decided;
-            ASSERT_EQ(s, sgn(n.exact - Q(g) * d.exact)) << "N = " << n.text << "\nD = " << d.text << "\ng = " << hex(g);
-        }
-    }
-    EXPECT_GT(decided, tried / 2);
-}
-
-// N = g·D + δ with δ tiny (down to far below the double-word precision) or zero:
-// sign(N - g·D) = sign(δ), the hardest residuals; a decided sign must be that one.
-TEST(CompensatedQuotient, ResidualSignNearZero) {
-    SEED_TRACE();
-    auto rng = make_rng();
-    int decided = 0, wrong_if_unbounded = 0;
-    for (int it = 0; it < 20000; ++it) {
-        const int e = 40;
-        const double g = random_double(rng, e);
-        CompensatedSum d, n;
-        mpq_class D = 0, N = 0;
-        std::string text;
-        for (int j = 0; j < 3; ++j) {
-            const double x = random_double(rng, e), y = random_double(rng, e);
-            d.add_product(x, y);
-            D += Q(x) * Q(y);
-            // g·x·y as exact pieces: (g·x) split exactly, times y split exactly
-            const Pair gx = two_prod(g, x);
-            n.add_product(gx.hi, y);
-            n.add_product(gx.lo, y);
-            N += Q(g) * Q(x) * Q(y);
-            text += hex(x) + "*" + hex(y) + " ";
-        }
-        const int k = int(rng() % 140);
-        const double delta = (rng() % 5 == 0) ? 0.0 : std::ldexp(random_double(rng, 0), -k) * std::abs(n.hi() + 1);
-        n.add(delta);
-        N += Q(delta);
-        if (!n.ok() || !d.ok() || D == 0) continue;
-        const int s = residual_sign(n, d, n.bound(), d.bound(), g);
-        // Would the computed residual alone (no bound) have the right sign?
-        const double r = n.hi() + n.lo() - g * d.hi();
-        wrong_if_unbounded += (r > 0) - (r < 0) != sgn(N - Q(g) * D);
-        if (s == 2) continue;
-        ++decided;
-        ASSERT_EQ(s, sgn(N - Q(g) * D)) << "D = " << text << "\ng = " << hex(g) << " delta = " << hex(delta);
-    }
-    EXPECT_GT(decided, 5000);
-    EXPECT_GT(wrong_if_unbounded, 0);  // the cases are hard enough that bounds matter
+TEST(QuotientSums, ExactSumsHaveZeroBoundAndOutOfRangeIsRejected) {
+    using namespace rayproof::detail::lanes;
+    // Small integers: every product and partial sum exact, bound 0, the exact value.
+    const double x[2][3] = {{3, -5, 7}, {2, 2, -4}}, y[2][3] = {{1, 2, 3}, {1, 1, 1}};
+    const Sums s = make_sums<3>(-14, 0, x, y);
+    ASSERT_TRUE(s.qs.ok);
+    EXPECT_EQ(lane0(s.qs.bound), 0.0);
+    EXPECT_EQ(lane1(s.qs.bound), 0.0);
+    EXPECT_EQ(lane0(s.qs.hi), 0.0);  // -14 + 3 - 10 + 21 = 0 exactly
+    EXPECT_EQ(lane1(s.qs.hi), 0.0);  // 2 + 2 - 4 = 0
+    // in_range: 0, [2^-450, top]; not below 2^-450, above top, NaN or infinite.
+    EXPECT_EQ(bits(in_range(make(0.0, -0x1p-450))), 3);
+    EXPECT_EQ(bits(in_range(make(0x1p-451, 0x1p490))), 2);
+    EXPECT_EQ(bits(in_range(make(0x1p491, -0x1p490))), 2);
+    EXPECT_EQ(bits(in_range(make(std::nan(""), std::numeric_limits<double>::infinity()))), 0);
+    EXPECT_EQ(bits(in_range(make(0x1p1000, 0x1p1001), splat(0x1p1000))), 1);
+    const double tiny[2][3] = {{0x1p-600, 1, 1}, {1, 1, 1}}, one[2][3] = {{1, 1, 1}, {1, 1, 1}};
+    EXPECT_FALSE((make_sums<3>(1, 1, tiny, one).qs.ok));  // a product whose error term could be lost
 }
 
 ::testing::AssertionResult faithful(double r, const mpq_class& q) {
@@ -237,64 +154,53 @@ TEST(CompensatedQuotient, ResidualSignNearZero) {
     return ::testing::AssertionFailure() << hex(r) << " is not a faithful rounding of " << q.get_d();
 }
 
-TEST(CompensatedQuotient, FaithfulWheneverAnswered) {
+TEST(PinQuotient, FaithfulWheneverPinned) {
     SEED_TRACE();
     auto rng = make_rng();
-    int answered = 0, generic = 0;
-    for (int it = 0; it < 20000; ++it) {
-        const int e = (it % 4 == 0) ? 600 : 60;
-        const Sum n = (it % 5 == 0) ? cancelling_sum(rng, 3, e) : random_sum(rng, 3, e);
-        const Sum d = random_sum(rng, 3, e);
-        if (!n.cs.ok() || !d.cs.ok() || d.exact == 0) continue;
-        const mpq_class q = n.exact / d.exact;
-        const std::optional<double> r = compensated_faithful_quotient(n.cs, d.cs, sgn(d.exact));
-        if (it % 4 != 0 && it % 5 != 0) ++generic;
-        if (!r) continue;
-        if (it % 4 != 0 && it % 5 != 0) ++answered;
-        ASSERT_TRUE(faithful(*r, q)) << "N = " << n.text << "\nD = " << d.text;
+    int pinned = 0, generic = 0, generic_pinned = 0;
+    for (int it = 0; it < 40000; ++it) {
+        const int e = (it % 4 == 0) ? 220 : 30;
+        const bool cancel = it % 5 == 0;
+        const Sums s = (it % 2) ? random_sums<3>(rng, e, cancel) : random_sums<6>(rng, e, cancel);
+        const PinnedQuotient x = pin_quotient(s.qs);
+        const bool is_generic = s.qs.ok && it % 4 != 0 && !cancel;
+        generic += is_generic;
+        if (!x.pinned) continue;
+        ++pinned;
+        generic_pinned += is_generic;
+        ASSERT_NE(sgn(s.D), 0) << s.text;
+        ASSERT_TRUE(faithful(x.c, s.N / s.D)) << s.text;
     }
-    // Generic, well-scaled input is the stage's whole purpose: it must decide nearly always.
-    EXPECT_GT(answered, generic * 99 / 100) << answered << " of " << generic;
+    // Generic, well-scaled input is the stage's whole purpose: it must pin nearly always.
+    EXPECT_GT(generic_pinned, generic * 99 / 100) << generic_pinned << " of " << generic;
+    EXPECT_GT(pinned, 20000);
 }
 
-// Exactly representable quotients come back exactly (or not at all); exact midpoints
-// between two doubles give one of the two.
-TEST(CompensatedQuotient, RepresentableAndMidpointQuotients) {
+// Exactly representable quotients come back exactly; exact midpoints between two doubles
+// give one of the two.
+TEST(PinQuotient, RepresentableAndMidpointQuotients) {
     SEED_TRACE();
     auto rng = make_rng();
     int answered = 0;
     for (int it = 0; it < 5000; ++it) {
-        const double x = random_double(rng, 40), y = random_double(rng, 40);
-        const double z = random_double(rng, 40);  // t = x exactly for N = x·y·z, D = y·z
-        // D = y·z held exactly as a two-term sum, N = x·D as exact products.
-        const Pair yz = two_prod(y, z);
-        CompensatedSum d, n, n2, d2;
-        d.add(yz.hi);
-        d.add(yz.lo);
-        n.add_product(x, yz.hi);
-        n.add_product(x, yz.lo);
-        if (!n.ok() || !d.ok()) continue;
-        const mpq_class D = Q(yz.hi) + Q(yz.lo);
-        const std::optional<double> r = compensated_faithful_quotient(n, d, sgn(D));
-        if (r) {
+        const double x = random_double(rng, 40), y = random_double(rng, 40), z = random_double(rng, 40);
+        const Pair yz = two_prod(y, z);  // D = y·z, N = x·D: t = x exactly
+        const double nx[2][2] = {{x, x}, {y, 0}}, ny[2][2] = {{yz.hi, yz.lo}, {z, 0}};
+        const Sums s = make_sums<2>(0, 0, nx, ny);
+        if (const PinnedQuotient p = pin_quotient(s.qs); p.pinned) {
             ++answered;
-            EXPECT_EQ(*r, x) << hex(x) << " " << hex(y) << " " << hex(z);
+            EXPECT_EQ(p.c, x) << s.text;
         }
         // midpoint: N = (2x + gap)·D, D' = 2·D, t = x + gap/2
         const double gap = step_up(x) - x;
-        n2.add_product(2 * x, yz.hi);
-        n2.add_product(2 * x, yz.lo);
-        n2.add_product(gap, yz.hi);
-        n2.add_product(gap, yz.lo);
-        d2.add(2 * yz.hi);
-        d2.add(2 * yz.lo);
-        if (!n2.ok() || !d2.ok()) continue;
-        const mpq_class q = (Q(2 * x) + Q(gap)) * D / (2 * D);
-        if (const std::optional<double> m = compensated_faithful_quotient(n2, d2, sgn(D))) {
-            EXPECT_TRUE(faithful(*m, q));
+        const double mx[2][4] = {{2 * x, 2 * x, gap, gap}, {2 * y, 0, 0, 0}},
+                     my[2][4] = {{yz.hi, yz.lo, yz.hi, yz.lo}, {z, 0, 0, 0}};
+        const Sums m = make_sums<4>(0, 0, mx, my);
+        if (const PinnedQuotient p = pin_quotient(m.qs); p.pinned) {
+            EXPECT_TRUE(faithful(p.c, m.N / m.D)) << m.text;
         }
     }
-    // At a representable t the residuals at its neighbours are D times one gap: decided.
+    // At a representable t the residual is D times one gap away from deciding: pinned.
     EXPECT_GT(answered, 4500);
 }
 

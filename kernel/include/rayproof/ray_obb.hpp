@@ -28,10 +28,10 @@
 //            these intervals decide every comparison they separate; the rest,
 //            and the sign of d'_i, are decided exactly: num = ±h_i - Σ_j a_ji (o_j - c_j)
 //            and den = Σ_j a_ji d_j are degree 2, comparisons of two slab values degree 4
-//            (detail/exact.hpp). t is rounded faithfully from the interval when it lies
-//            strictly between the neighbours of its midpoint; for double next from
-//            double-word num and den with proven bounds (detail/compensated.hpp); else
-//            exactly.
+//            (detail/exact.hpp). t is pinned first from double-word num and den with
+//            proven bounds (detail/compensated.hpp; for float the faithful double
+//            rounded to nearest), next rounded from the interval when it lies strictly
+//            between the neighbours of its midpoint, else exactly.
 #pragma once
 
 #include <rayproof/detail/compensated.hpp>
@@ -53,6 +53,27 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
     const Vec3<T> o = p.box.axes.transpose() * (r.origin - p.box.center);
     const Vec3<T> d = p.box.axes.transpose() * r.direction;
     return slab_fast(o.data(), d.data(), p.lo.data(), p.hi.data(), r.t_min, r.t_max);
+}
+
+// The slab value (±h_i - o'_i)/d'_i as num = ±h_i - Σ_j a_ji (o_j - c_j), with o_j - c_j =
+// s_j + e_j split exactly by two_sum (the start and six products), over den = Σ_j a_ji d_j
+// (three products and three zeros), as double-word sums (detail/compensated.hpp) for
+// pin_quotient; not ok when an input is out of quotient_sums' range.
+template <class T> RAYPROOF_ALWAYS_INLINE QuotientSums obb_slab_sums(const Ray<T>& r, const Obb<T>& b, int i, int side) {
+    using namespace lanes;
+    const double h = b.half_extent[i];
+    D2 a[6], f[6];
+    M2 inputs = in_range(make(h, 0.0));
+    for (int j = 0; j < 3; ++j) {
+        const double x = b.axes(j, i);
+        const Pair oc = two_sum(double(r.origin[j]), -double(b.center[j]));
+        a[j] = make(-x, x);
+        f[j] = make(oc.hi, double(r.direction[j]));
+        a[3 + j] = make(-x, 0.0);
+        f[3 + j] = make(oc.lo, 0.0);
+        inputs = inputs & in_range(a[j]) & in_range(f[j]) & in_range(f[3 + j]);
+    }
+    return quotient_sums(make(side ? h : -h, 0.0), a, f, inputs);
 }
 
 // The slab frame of an oriented box: o'_i = (o - c)·a_i, d'_i = d·a_i, slab
@@ -144,33 +165,16 @@ public:
         return expansion_safe(r_->origin) && expansion_safe(r_->direction) && expansion_safe(b_->center) &&
                expansion_safe(b_->axes) && expansion_safe(b_->half_extent);
     }
+    // t faithfully rounded to T: by pin_quotient first (for float the faithful double
+    // rounded to nearest), next from the enclosure when it pins one float, else exactly.
     T faithful(int i, int side, const Interval<double>& v, bool& went_exact) const {
+        if (const PinnedQuotient x = pin_quotient(obb_slab_sums(*r_, *b_, i, side)); x.pinned) return faithful_to<T>(x.c);
         if (const std::optional<T> t = faithful_from_enclosure<T>(v)) return *t;
-        if constexpr (std::is_same_v<T, double>) {
-            if (const std::optional<double> t = compensated_faithful(i, side)) return *t;
-        }
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, i, side);
     }
 
     int den_sign_exact(int i) const { return exact_den_sign(i); }
-    // The slab value faithfully rounded to double from double-word num and den
-    // (detail/compensated.hpp): num = ±h_i - Σ_j a_ji (o_j - c_j) with o_j - c_j split
-    // exactly by two_sum (25 exact terms), den = Σ_j a_ji d_j (6); nothing when the
-    // bounds cannot decide. Needs den_sign(i) != 0.
-    std::optional<double> compensated_faithful(int i, int side) const {
-        CompensatedSum n, d;
-        const double h = b_->half_extent[i];
-        n.add(side ? h : -h);
-        for (int j = 0; j < 3; ++j) {
-            const double a = b_->axes(j, i);
-            const Pair oc = two_sum(double(r_->origin[j]), -double(b_->center[j]));
-            n.add_product(-a, oc.hi);
-            n.add_product(-a, oc.lo);
-            d.add_product(a, double(r_->direction[j]));
-        }
-        return compensated_faithful_quotient(n, d, sden_[i]);
-    }
 
 private:
     static Interval<double> around(double v, double e) {

@@ -20,6 +20,7 @@
 //            plane_pin): num and den as double-word sums of exact products in two lanes,
 //            with bounds that are 0 when the sums are exact; t pinned between the two
 //            neighbours of a candidate by a proven bound on the residual num - c·den
+//            (detail/compensated.hpp)
 //            (then t against t_min and t_max is decided by comparing c with them, and c
 //            is t faithfully rounded; for float the faithful double rounded to nearest);
 //            a rough enclosure of t for nearly parallel rays that miss; exact zeros
@@ -33,14 +34,14 @@
 //            of its midpoint, else exactly.
 #pragma once
 
-#include <rayproof/detail/lanes.hpp>
+#include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/interval.hpp>
 #include <rayproof/detail/slab_certified.hpp>
 #include <rayproof/detail/validate.hpp>
 
-#include <bit>
-#include <cstdint>
+#include <cmath>
+#include <limits>
 
 namespace rayproof::detail {
 
@@ -71,67 +72,19 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
     return h;
 }
 
-// The crossing t = N/D (N = offset - n·o, D = n·d) pinned between two adjacent doubles,
-// with no interval and no branch: pinned means that t lies strictly between the two
-// neighbours of c, so c is one of the two doubles enclosing t (t itself when t is a
-// double), and D != 0. The certified straight-line path decides everything from it, and
-// the general path rounds t with it first, so the two agree bit for bit.
-//
-// Sums: N (lane 0) and D (lane 1) side by side (detail/lanes.hpp), each a sum of four
-// doubles, offset (or 0) and three products held exactly as hi + lo (exact_product).
-// s cascades offset and the three high parts by two_sum, whose errors q_i are exact;
-// c = fl(q_1 + lo_1 + q_2 + lo_2 + q_3 + lo_3) in that order (Sum2 of Ogita, Rump and
-// Oishi, "Accurate sum and dot product", SIAM J. Sci. Comput. 26(6), 2005). Then N =
-// s + Σq_i + Σlo_i exactly, and the recursive sum c of the six small terms is off by at
-// most gamma(5)·S, S = Σ|q_i| + Σ|lo_i| (Higham, ASNA, 4.2); bound = fl(2·gamma(5)·fl(S))
-// covers it (fl(S) >= (1 - gamma(5))·S; the doubling covers that and the product's
-// rounding). The bound is 0 exactly when every small term is, and then s + c is the
-// exact sum: integer-like input (exact products) is decided exactly, zeros included.
-// s and c are then renormalized by fast_two_sum (exact when |c| <= |s| or s == 0,
-// checked; the same exact sum, its high part fl(s + c), |c| <= u|s| after it): below,
-// s_N + c_N and s_D + c_D name the renormalized pairs, b_N and b_D their bounds.
+// The crossing t = N/D (N = offset - n·o, D = n·d): pinned between two adjacent doubles
+// by detail/compensated.hpp (quotient_sums with the offset and the three products n_i·o_i
+// in lane 0 and n_i·d_i in lane 1, then pin_quotient), with two more claims from the same
+// sums, no interval and no branch. The certified straight-line path decides everything
+// from it, and the general path rounds t with it first, so the two agree bit for bit.
 // Range: n_i, o_i and d_i each 0 or of magnitude in [2^-450, 2^490], offset 0 or in
-// [2^-450, 2^1000]. Then every product is exact (exact_product's conditions: a nonzero
-// product is at least 2^-900), nothing overflows (A < 2^1001), every term and partial
-// sum is a multiple of 2^-1004 (so 0 or normal, and the additions' relative error bound
-// holds), and a nonzero S is at least 2^-1004 (the bound's rounding, even subnormal,
-// stays far inside the doubling's slack).
-// Candidate: tt = fl(s_N/s_D) cut to 26 bits and s_D = d26 + d27 (d26 cut the same way,
-// d27 = s_D - d26 exact, at most 27 bits): under the guards |tt| >= 2^-490 and |s_D| >=
-// 2^-500 (both finite; |s_D| < 2^981 by the range) the products tt·d26 and tt·d27 (at
-// most 52 and 53 bits, the last of weight at least 2^-1067, and near |s_N| < 2^1001)
-// are exact, and
-//     x1 = fl(s_N - tt·d26), x2 = fl(x1 - tt·d27), e1 = fl(tt·c_D), x3 = fl(c_N - e1),
-//     rho = fl(x2 + x3)
-// give R(tt) = N - tt·D = rho + eps_N - tt·eps_D + E1, |E1| <= u(|x1| + |x2| + |e1| + |x3|
-// + |rho|) (each rounding to nearest is off by at most u times its result, plus 2^-1075
-// where it underflows); eps_N and eps_D are the sums' errors (bounds b_N and b_D). The
-// candidate is c = fl(tt + fl(rho·fl(1/s_D))). Its accuracy is not relied on (any
-// candidate may be tried, the proof below decides); for the record, x1 is exact by
-// Sterbenz and c is nearly always t correctly rounded.
-// Proof: t lies strictly between c's neighbours when |t - c| < u|c|: for |c| = m·2^e,
-// m in [1, 2), the gap below c is 2^(e-52), or 2^(e-53) when m == 1, and the gap above
-// 2^(e-52), both at least u|c| = m·2^(e-53) (subnormal c: both gaps 2^-1074 > u|c|; c ==
-// 0 never passes). And |t - c| = |R(c)|/|D| with R(g) = N - g·D. From R(tt):
-//     R(c) = R(tt) - (c - tt)·D = rho + E1 + eps_N - c·eps_D - (c - tt)·(s_D + c_D),
-// and with w = fl(fl(c - tt)·s_D), v = fl(rho - w):
-//     |R(c) - v| <= b_N + u(|x1| + |x2| + |e1| + |x3| + |rho|) + |c|·b_D + 5u|w| + u|v| =: e
-// (the rounding of c - tt, the c_D left out (|c_D| <= u|s_D|) and the product's rounding
-// together at most 3u(1 + 3u)|w|, and the last subtraction's), while |D| >= (1 - u)|s_D|
-// - b_D. The test lhs < rhs with
-//     lhs = fl(fl(fl(|v|·(1 + 2u)) + fl(2e + 2^-1020))·(1 + 2^-40)),
-//     rhs = fl(fl(u|c|)·fl(fl(|s_D|·(1 - 2^-40)) - 4·b_D))
-// proves |R(c)| < u|c|·|D|: lhs is at least |v| + e (the doubling of e covers the
-// roundings of its own evaluation, 2^-1020 every underflow, the factor 1 + 2^-40 the
-// last roundings), rhs at most u|c|((1 - u)|s_D| - b_D) (u|c| is exact for |c| >=
-// 2^-900, checked; the factor 1 - 2^-40 and 4·b_D absorb the three roundings). A NaN or
-// an infinity anywhere (an overflow, a candidate of 0/0) fails the comparison.
+// [2^-450, 2^1000] (quotient_sums' conditions).
 // Rough enclosure, for a t far from c's neighbours' reach (a nearly parallel ray, whose
 // t the sums' bounds cannot pin to one ulp): when |c_N| + b_N <= 2^-20|s_N| and |c_D| +
 // b_D < 2^-20|s_D|, N = s_N(1 + a) and D = s_D(1 + b) with |a|, |b| <= 2^-20(1 + u), and
-// q = fl(s_N/s_D) = (s_N/s_D)(1 + e), |e| <= u, so t/q = (1 + a)/((1 + b)(1 +
-// e)) lies within 2^-18 of 1: t is in [q - fl(2^-17|q|), q + fl(2^-17|q|)] rounded
-// (each end's rounding is far below the 2^-18|q| of slack), and D != 0.
+// q = fl(s_N/s_D) = (s_N/s_D)(1 + e), |e| <= u, so t/q = (1 + a)/((1 + b)(1 + e)) lies
+// within 2^-18 of 1: t is in [q - fl(2^-17|q|), q + fl(2^-17|q|)] rounded (each end's
+// rounding is far below the 2^-18|q| of slack; |q| finite, checked), and D != 0.
 // Exact zeros: D != 0 when |s_D| > 2·b_D (|D| >= (1 - u)|s_D| - b_D), and likewise N;
 // D == 0 when b_D == 0 and s_D == 0 (the sum is then exact), and likewise N. So N == 0
 // with D != 0 is t == 0 exactly, and D == 0 is a parallel ray: in the plane when N == 0,
@@ -147,59 +100,27 @@ struct PlanePin {
 };
 template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, const Plane<T>& p) {
     using namespace lanes;
-    constexpr double K = 2 * exact_impl::gamma(5), u = exact_impl::u;
     const double f = double(p.offset);
-    double n[3], o[3], d[3];
+    D2 a[3], b[3];
     for (int j = 0; j < 3; ++j) {
-        n[j] = double(p.normal[j]);
-        o[j] = double(r.origin[j]);
-        d[j] = double(r.direction[j]);
+        const double n = double(p.normal[j]);
+        a[j] = make(-n, n);
+        b[j] = make(double(r.origin[j]), double(r.direction[j]));
     }
-    const auto in_range = [](D2 x, D2 top) {  // each lane 0 or of magnitude in [2^-450, top] (false for NaN)
-        const D2 a = abs(x);
-        return ((a >= splat(0x1p-450)) | (a == splat(0.0))) & (a <= top);
-    };
-    const D2 top = splat(0x1p490);
-    const M2 inputs = in_range(make(n[0], n[1]), top) & in_range(make(n[2], f), make(0x1p490, 0x1p1000)) &
-                      in_range(make(o[0], o[1]), top) & in_range(make(o[2], d[0]), top) & in_range(make(d[1], d[2]), top);
-    D2 s = make(f, 0.0), c = splat(0.0), E = splat(0.0);
-    for (int j = 0; j < 3; ++j) {
-        const Product q = exact_product(make(-n[j], n[j]), make(o[j], d[j]));
-        const SumOf<D2> x = two_sum(s, q.hi);
-        s = x.hi;
-        c = (c + x.lo) + q.lo;
-        E = (E + abs(x.lo)) + abs(q.lo);
-    }
-    const D2 bound = E * splat(K);
-    // s + c renormalized by fast_two_sum, exact when |c| <= |s| or s == 0 (checked): s
-    // alone is 0 when the high parts cancel.
-    const D2 hi = s + c, lo = c - (hi - s);
-    const M2 renormal = (abs(c) <= abs(s)) | (s == splat(0.0));
-    const double nh = lane0(hi), nl = lane0(lo), dh = lane1(hi), dl = lane1(lo), bn = lane0(bound),
-                 bd = lane1(bound);
-    // R(tt) and the candidate.
-    const double c0 = nh / dh, inv = 1 / dh, tt = high26(c0), d26 = high26(dh);
-    const double x1 = nh - tt * d26, x2 = x1 - tt * (dh - d26), e1 = tt * dl, x3 = nl - e1, rho = x2 + x3;
-    const double cand = tt + rho * inv;
-    const D2 scale = abs(make(tt, dh));
-    const M2 scale_ok = (scale >= make(0x1p-490, 0x1p-500)) & (scale <= splat(std::numeric_limits<double>::max()));
-    // R(cand) ~ v within e, and the test |t - cand| < u|cand| (see the proof above).
-    const double ac = std::abs(cand), w = (cand - tt) * dh, v = rho - w;
-    const double e_fixed = (bn + u * ((((std::abs(x1) + std::abs(x2)) + std::abs(e1)) + std::abs(x3)) + std::abs(rho))) +
-                           (ac * bd + 5 * u * std::abs(w));
-    const double lhs = (std::abs(v) * (1 + 2 * u) + (2 * e_fixed + 0x1p-1020)) * (1 + 0x1p-40);
-    const double rhs = (u * ac) * (std::abs(dh) * (1 - 0x1p-40) - 4 * bd);
-    const bool in = bits(inputs) == 3;
-    const bool pinned = int(in) & int(bits(renormal & scale_ok) == 3) & int(ac >= 0x1p-900) & int(lhs < rhs);
+    const M2 inputs = in_range(a[0]) & in_range(a[1]) & in_range(a[2]) & in_range(b[0]) & in_range(b[1]) &
+                      in_range(b[2]) & in_range(make(f, 0.0), make(0x1p1000, 0.0));
+    const QuotientSums s = quotient_sums(make(f, 0.0), a, b, inputs);
+    const PinnedQuotient x = pin_quotient(s);
     // The rough enclosure.
-    const bool sums = int(in) & int(bits(renormal) == 3);
-    const double pad = 0x1p-17 * std::abs(c0);
-    const bool rough = int(sums) & int(std::abs(nl) + bn <= 0x1p-20 * std::abs(nh)) &
+    const double nh = lane0(s.hi), nl = lane0(s.lo), dh = lane1(s.hi), dl = lane1(s.lo), bn = lane0(s.bound),
+                 bd = lane1(s.bound);
+    const double q = nh / dh, pad = 0x1p-17 * std::abs(q);
+    const bool rough = int(s.ok) & int(std::abs(nl) + bn <= 0x1p-20 * std::abs(nh)) &
                        int(std::abs(dl) + bd < 0x1p-20 * std::abs(dh)) & int(pad <= std::numeric_limits<double>::max());
     // Exact zeros (bit 0: N, bit 1: D): z proven zero, nz proven nonzero.
-    const int z = bits((bound == splat(0.0)) & (hi == splat(0.0))), nz = bits(abs(hi) > bound + bound);
-    const bool zero = int(sums) & z & (nz >> 1), lying = int(sums) & int(z == 3), parallel = int(sums) & (z >> 1) & nz;
-    return {cand, pinned, c0 - pad, c0 + pad, rough, zero, lying, parallel};
+    const int z = bits((s.bound == splat(0.0)) & (s.hi == splat(0.0))), nz = bits(abs(s.hi) > s.bound + s.bound);
+    const bool zero = int(s.ok) & z & (nz >> 1), lying = int(s.ok) & int(z == 3), parallel = int(s.ok) & (z >> 1) & nz;
+    return {x.c, x.pinned, q - pad, q + pad, rough, zero, lying, parallel};
 }
 
 // The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures

@@ -1,110 +1,135 @@
-// rayproof/detail/compensated.hpp — the faithful rounding of a quotient t = N/D of two
-// short sums of products of doubles, in double-word arithmetic with proven error bounds.
-// It sits between the interval filter, whose enclosures of t are a few ulps wide (too
-// wide to pin a faithful rounding), and exact arithmetic (detail/exact.hpp): it answers
-// when its bounds decide, and otherwise says so, never a guess.
+// rayproof/detail/compensated.hpp — a quotient t = N/D of two short sums of products of
+// doubles, pinned between two adjacent doubles in double-word arithmetic with proven
+// error bounds, with no interval and no branch. It sits between the interval filter,
+// whose enclosures of t are a few ulps wide (too wide to pin a faithful rounding), and
+// exact arithmetic (detail/exact.hpp): it answers when its bounds decide, and otherwise
+// says so, never a guess. Used by the plane (N = offset - n·o, D = n·d) and by the
+// oriented box (each slab value, N = ±h_i - a_i·(o - c), D = a_i·d).
 //
-// Sums (CompensatedSum): Sum2 of Ogita, Rump and Oishi ("Accurate sum and dot product",
-// SIAM J. Sci. Comput. 26(6), 2005, Algorithm 4.4 without its last addition). Every term
-// p_1..p_n is a double held exactly (an input, or either half of an exact two_prod); s
-// accumulates them with two_sum, whose errors q_i are exact, and c = fl(Σ q_i). Then
-// N = s + Σ q_i exactly, Σ|q_i| <= gamma(n-1)·Σ|p_i| (ibid., proof of Proposition 4.5)
-// and |c - Σ q_i| <= gamma(n-2)·Σ|q_i| (recursive summation), so
-//     |s + c - N| <= gamma(n-1)·gamma(n-2)·A <= gamma(n)²·A,   A = Σ|p_i|.
-// bound() returns 2·gamma(n)²·fl(A) + 2^-1020: fl(A) >= A·(1 - gamma(n)), and doubling
-// covers that and the three roundings of the product; 2^-1020 covers their underflow
-// (at most 2^-1075 each). Exact while nothing overflows (guarded: fl(A) <= 2^1000, so
-// every partial sum is far below 2^1022 and each two_sum is exact) and every product's
-// error term is representable (guarded: |fl(x·y)| >= 2^-916 or a factor is 0; see
-// two_prod). A sum that fails a guard is not ok() and the caller goes exact.
+// Sums (quotient_sums): N in lane 0 and D in lane 1 (detail/lanes.hpp), each a start
+// value plus P products held exactly as hi + lo (exact_product). s cascades the start and
+// the P high parts by two_sum, whose errors q_k are exact; c = fl(q_1 + lo_1 + ... + q_P
+// + lo_P) in that order (Sum2 of Ogita, Rump and Oishi, "Accurate sum and dot product",
+// SIAM J. Sci. Comput. 26(6), 2005). Then the sum is s + Σq_k + Σlo_k exactly, and the
+// recursive sum c of the 2P small terms is off by at most gamma(2P - 1)·S, S = Σ|q_k| +
+// Σ|lo_k| (Higham, ASNA, 4.2); bound = fl(2·gamma(2P - 1)·fl(S)) covers it (fl(S) >=
+// (1 - gamma(2P - 1))·S; the doubling covers that and the product's rounding). The bound
+// is 0 exactly when every small term is, and then s + c is the exact sum: integer-like
+// input (exact products) is decided exactly, zeros included. s and c are then
+// renormalized by fast_two_sum (exact when |c| <= |s| or s == 0, checked; the same exact
+// sum, its high part fl(s + c), |c| <= u|s| after it): below, s_N + c_N and s_D + c_D
+// name the renormalized pairs, b_N and b_D their bounds.
+// Range (in_range, checked by the caller on every factor and the start): each factor 0
+// or of magnitude in [2^-450, 2^490], the start 0 or in [2^-450, 2^1000], P <= 6. Then
+// every product is exact (exact_product's conditions: a nonzero product is at least
+// 2^-900), nothing overflows (every partial sum below 2^1001), every term and partial sum
+// is a multiple of 2^-1004 (so 0 or normal, and the additions' relative error bound
+// holds), and a nonzero S is at least 2^-1004 (the bound's rounding, even subnormal,
+// stays far inside the doubling's slack).
 //
-// Quotient (compensated_faithful_quotient): a candidate c from one correction of
-// s_N/s_D; then t lies strictly between the neighbours c- and c+ of c (so c is one of
-// the two doubles enclosing t, and t itself when t is a double) iff N - g·D has the
-// sign of D at g = c- and the opposite sign at g = c+. Each sign comes from
-// residual_sign, with its own bound (derivation there); an undecided sign, or a guard
-// that fails, returns nothing.
+// Pin (pin_quotient): pinned means that t lies strictly between the two neighbours of c,
+// so c is one of the two doubles enclosing t (t itself when t is a double), and D != 0.
+// Candidate: tt = fl(s_N/s_D) cut to 26 bits and s_D = d26 + d27 (d26 cut the same way,
+// d27 = s_D - d26 exact, at most 27 bits): under the guards |tt| >= 2^-490 and |s_D| >=
+// 2^-500 (both finite; |s_D| < 2^1001 by the range) the products tt·d26 and tt·d27 (at
+// most 52 and 53 bits, the last of weight at least 2^-1067, and near |s_N| < 2^1001)
+// are exact, and
+//     x1 = fl(s_N - tt·d26), x2 = fl(x1 - tt·d27), e1 = fl(tt·c_D), x3 = fl(c_N - e1),
+//     rho = fl(x2 + x3)
+// give R(tt) = N - tt·D = rho + eps_N - tt·eps_D + E1, |E1| <= u(|x1| + |x2| + |e1| + |x3|
+// + |rho|) (each rounding to nearest is off by at most u times its result, plus 2^-1075
+// where it underflows); eps_N and eps_D are the sums' errors (bounds b_N and b_D). The
+// candidate is c = fl(tt + fl(rho·fl(1/s_D))). Its accuracy is not relied on (any
+// candidate may be tried, the proof below decides); for the record, x1 is exact by
+// Sterbenz and c is nearly always t correctly rounded.
+// Proof: t lies strictly between c's neighbours when |t - c| < u|c|: for |c| = m·2^e,
+// m in [1, 2), the gap below c is 2^(e-52), or 2^(e-53) when m == 1, and the gap above
+// 2^(e-52), both at least u|c| = m·2^(e-53) (subnormal c: both gaps 2^-1074 > u|c|; c ==
+// 0 never passes). And |t - c| = |R(c)|/|D| with R(g) = N - g·D. From R(tt):
+//     R(c) = R(tt) - (c - tt)·D = rho + E1 + eps_N - c·eps_D - (c - tt)·(s_D + c_D),
+// and with w = fl(fl(c - tt)·s_D), v = fl(rho - w):
+//     |R(c) - v| <= b_N + u(|x1| + |x2| + |e1| + |x3| + |rho|) + |c|·b_D + 5u|w| + u|v| =: e
+// (the rounding of c - tt, the c_D left out (|c_D| <= u|s_D|) and the product's rounding
+// together at most 3u(1 + 3u)|w|, and the last subtraction's), while |D| >= (1 - u)|s_D|
+// - b_D. The test lhs < rhs with
+//     lhs = fl(fl(fl(|v|·(1 + 2u)) + fl(2e + 2^-1020))·(1 + 2^-40)),
+//     rhs = fl(fl(u|c|)·fl(fl(|s_D|·(1 - 2^-40)) - 4·b_D))
+// proves |R(c)| < u|c|·|D|: lhs is at least |v| + e (the doubling of e covers the
+// roundings of its own evaluation, 2^-1020 every underflow, the factor 1 + 2^-40 the
+// last roundings), rhs at most u|c|((1 - u)|s_D| - b_D) (u|c| is exact for |c| >=
+// 2^-900, checked; the factor 1 - 2^-40 and 4·b_D absorb the three roundings). A NaN or
+// an infinity anywhere (an overflow, a candidate of 0/0) fails the comparison.
+//
+// Contraction (-ffp-contract=fast) is harmless here: every product the derivation needs
+// exact is exact, a fused rounding is one rounding fewer than the bounds allow for, and
+// exact_product keeps its own fused and split forms apart.
 #pragma once
 
 #include <rayproof/detail/exact.hpp>
-#include <rayproof/detail/interval.hpp>
+#include <rayproof/detail/lanes.hpp>
 
 #include <cmath>
-#include <optional>
+#include <limits>
 
 namespace rayproof::detail {
 
-class CompensatedSum {
-public:
-    void add(double x) {
-        const Pair p = two_sum(s_, x);
-        s_ = p.hi;
-        c_ += p.lo;
-        a_ += std::abs(x);
-        ++n_;
-    }
-    // x·y, both halves of the exact product.
-    void add_product(double x, double y) {
-        const Pair p = two_prod(x, y);
-        exact_ &= int(std::abs(p.hi) >= exact_impl::kMinExactProduct) | int(x == 0) | int(y == 0);
-        add(p.hi);
-        add(p.lo);
-    }
-    double hi() const { return s_; }
-    double lo() const { return c_; }
-    // Every two_sum and two_prod was exact (NaN and ±inf fail the comparison).
-    bool ok() const { return exact_ && a_ <= 0x1p1000; }
-    // |hi + lo - exact sum| <= bound() (see the header comment).
-    double bound() const {
-        const double g = exact_impl::gamma(n_);
-        return 2 * (g * g * a_) + 0x1p-1020;
-    }
+// Each lane 0 or of magnitude in [2^-450, top] (false for NaN and infinities).
+RAYPROOF_ALWAYS_INLINE lanes::M2 in_range(lanes::D2 x, lanes::D2 top) {
+    using namespace lanes;
+    const D2 a = abs(x);
+    return ((a >= splat(0x1p-450)) | (a == splat(0.0))) & (a <= top);
+}
+RAYPROOF_ALWAYS_INLINE lanes::M2 in_range(lanes::D2 x) { return in_range(x, lanes::splat(0x1p490)); }
 
-private:
-    double s_ = 0, c_ = 0, a_ = 0;
-    int n_ = 0;
-    bool exact_ = true;
+// N (lane 0) and D (lane 1) with |X - (hi + lo)| <= bound, |lo| <= u|hi|; ok when the
+// inputs were in range (the caller's mask) and the renormalization exact.
+struct QuotientSums {
+    lanes::D2 hi, lo, bound;
+    bool ok;
 };
-
-// sign(N - g·D) for N in [hi_N + lo_N ± bn], D in [hi_D + lo_D ± bd]: 1, -1, or 2 when the
-// bound cannot decide (or a guard fails).
-// With (p, p') = two_prod(g, hi_D) exact and (a, a') = two_sum(hi_N, -p) exact,
-//     N - g·D = a + a' - p' + lo_N - g·lo_D + δ,   |δ| <= bn + |g|·bd.
-// r = fl(a + fl(fl(fl(a' - p') + lo_N) - e)), e = fl(g·lo_D): recursive summation of five
-// terms is off by at most gamma(4)·(|a| + |a'| + |p'| + |lo_N| + |e|) (Higham, ASNA, 4.2),
-// and |e - g·lo_D| <= u|e|/(1 - u) + 2^-1075. The threshold doubles the sum of these
-// bounds (covering the relative error gamma(12) of its own evaluation) and adds 2^-1020
-// (the underflow of its products).
-inline int residual_sign(const CompensatedSum& N, const CompensatedSum& D, double bn, double bd, double g) {
-    using exact_impl::gamma;
-    const Pair p = two_prod(g, D.hi());
-    const double e = g * D.lo();
-    const Pair a = two_sum(N.hi(), -p.hi);
-    const double r = a.hi + (((a.lo - p.lo) + N.lo()) - e);
-    const double ag = std::abs(g), ae = std::abs(e);
-    const double bound = bn + ag * bd + exact_impl::u * ae +
-                         gamma(4) * (std::abs(a.hi) + std::abs(a.lo) + std::abs(p.lo) + std::abs(N.lo()) + ae);
-    const double threshold = 2 * bound + 0x1p-1020;
-    // two_prod exact (g == 0 gives an exact 0), two_sum far from overflow.
-    const bool exact = (int(std::abs(p.hi) >= exact_impl::kMinExactProduct) | int(g == 0)) & int(std::abs(p.hi) <= 0x1p1000);
-    if (!exact || !(threshold <= 0x1p1000)) return 2;
-    if (r > threshold) return 1;
-    if (r < -threshold) return -1;
-    return 2;
+template <int P>
+RAYPROOF_ALWAYS_INLINE QuotientSums quotient_sums(lanes::D2 start, const lanes::D2 (&a)[P], const lanes::D2 (&b)[P],
+                                                  lanes::M2 inputs_in_range) {
+    using namespace lanes;
+    static_assert(P >= 1 && P <= 6);
+    constexpr double K = 2 * exact_impl::gamma(2 * P - 1);
+    D2 s = start, c = splat(0.0), S = splat(0.0);
+    for (int k = 0; k < P; ++k) {
+        const Product q = exact_product(a[k], b[k]);
+        const SumOf<D2> x = two_sum(s, q.hi);
+        s = x.hi;
+        c = (c + x.lo) + q.lo;
+        S = (S + abs(x.lo)) + abs(q.lo);
+    }
+    const D2 hi = s + c, lo = c - (hi - s);
+    const M2 renormal = (abs(c) <= abs(s)) | (s == splat(0.0));
+    return {hi, lo, S * splat(K), bits(inputs_in_range & renormal) == 3};
 }
 
-// N/D faithfully rounded to double, given dsign = sign(D) (exact, nonzero), or nothing.
-inline std::optional<double> compensated_faithful_quotient(const CompensatedSum& N, const CompensatedSum& D, int dsign) {
-    if (!N.ok() || !D.ok() || D.hi() == 0) return std::nullopt;
-    // Any candidate may be tried; this one is within about half an ulp of t.
-    const double c0 = N.hi() / D.hi();
-    const Pair p = two_prod(c0, D.hi());
-    const double c = c0 + (((N.hi() - p.hi) - p.lo) + N.lo() - c0 * D.lo()) / D.hi();
-    if (!std::isfinite(c)) return std::nullopt;
-    const double bn = N.bound(), bd = D.bound();
-    if (residual_sign(N, D, bn, bd, step_down(c)) != dsign) return std::nullopt;
-    if (residual_sign(N, D, bn, bd, step_up(c)) != -dsign) return std::nullopt;
-    return c;
+// t = N/D pinned: t lies strictly between the two neighbours of c when pinned.
+struct PinnedQuotient {
+    double c;
+    bool pinned;
+};
+RAYPROOF_ALWAYS_INLINE PinnedQuotient pin_quotient(const QuotientSums& s) {
+    using namespace lanes;
+    constexpr double u = exact_impl::u;
+    const double nh = lane0(s.hi), nl = lane0(s.lo), dh = lane1(s.hi), dl = lane1(s.lo), bn = lane0(s.bound),
+                 bd = lane1(s.bound);
+    // R(tt) and the candidate.
+    const double inv = 1 / dh, tt = high26(nh / dh), d26 = high26(dh);
+    const double x1 = nh - tt * d26, x2 = x1 - tt * (dh - d26), e1 = tt * dl, x3 = nl - e1, rho = x2 + x3;
+    const double cand = tt + rho * inv;
+    const D2 scale = abs(make(tt, dh));
+    const M2 scale_ok = (scale >= make(0x1p-490, 0x1p-500)) & (scale <= splat(std::numeric_limits<double>::max()));
+    // R(cand) ~ v within e, and the test |t - cand| < u|cand| (see the proof above).
+    const double ac = std::abs(cand), w = (cand - tt) * dh, v = rho - w;
+    const double e = (bn + u * ((((std::abs(x1) + std::abs(x2)) + std::abs(e1)) + std::abs(x3)) + std::abs(rho))) +
+                     (ac * bd + 5 * u * std::abs(w));
+    const double lhs = (std::abs(v) * (1 + 2 * u) + (2 * e + 0x1p-1020)) * (1 + 0x1p-40);
+    const double rhs = (u * ac) * (std::abs(dh) * (1 - 0x1p-40) - 4 * bd);
+    const bool pinned = int(s.ok) & int(bits(scale_ok) == 3) & int(ac >= 0x1p-900) & int(lhs < rhs);
+    return {cand, pinned};
 }
 
 }  // namespace rayproof::detail
