@@ -7,8 +7,8 @@
 // verdict, face and faithful t must match exactly. Covers all four shapes over float
 // and double. Also checks that the filtered certified answer is identical to the
 // exact-stage answer, bit for bit, on the same cases (the filter may only decide what
-// the exact stage would decide the same way), and that the certified box's,
-// plane's and sphere's straight-line common paths agree bit for bit with the general paths
+// the exact stage would decide the same way), and that the certified box's, oriented
+// box's, plane's and sphere's straight-line common paths agree bit for bit with the general paths
 // wherever they answer, on every generator, and answer nearly every general-position case.
 #include <rayproof/generators.hpp>
 #include <rayproof/oracle/oracle.hpp>
@@ -168,6 +168,11 @@ TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {
     using T = TypeParam;
     common_agrees_with_general<T, Aabb<T>>([](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_common(r, b); },
                                            [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_general(r, b); });
+}
+TYPED_TEST(CertifiedExactStage, ObbStraightLinePathAgreesWithGeneralPath) {
+    using T = TypeParam;
+    common_agrees_with_general<T, Obb<T>>([](const Ray<T>& r, const Obb<T>& b) { return detail::obb_certified_common(r, b); },
+                                          [](const Ray<T>& r, const Obb<T>& b) { return detail::obb_certified_general(r, b); });
 }
 TYPED_TEST(CertifiedExactStage, PlaneStraightLinePathAgreesWithGeneralPath) {
     using T = TypeParam;

@@ -22,15 +22,20 @@
 //            scalar types; the exact sign of d'_i is used when its interval holds 0 (a
 //            nearly parallel slab whose sign is unknown gives the half-line of values
 //            on the side its numerator allows, or no constraint at all).
-//            certified — o'_i and d'_i enclosed by one plain evaluation in double and
-//            the static bounds gamma(4)·Σ|a_ji (o_j - c_j)| and gamma(3)·Σ|a_ji d_j|
-//            (derivation at ObbFrame), then the slab values in interval arithmetic;
-//            these intervals decide every comparison they separate; the rest,
-//            and the sign of d'_i, are decided exactly: num = ±h_i - Σ_j a_ji (o_j - c_j)
-//            and den = Σ_j a_ji d_j are degree 2, comparisons of two slab values degree 4
-//            (detail/exact.hpp). t is pinned first from double-word num and den with
-//            proven bounds (detail/compensated.hpp; for float the faithful double
-//            rounded to nearest), next rounded from the interval when it lies strictly
+//            certified — straight-line code first (obb_certified_common): o'_i and d'_i
+//            from one plain evaluation in double with static bounds, each slab value
+//            with its own bound, the winners and the verdict proven in two lanes as for
+//            the aligned box, and each winning value rounded faithfully by pinning it
+//            from double-word num and den (detail/compensated.hpp; for float the
+//            faithful double rounded to nearest). What it cannot vouch for goes to the
+//            general path: o'_i and d'_i enclosed by the same static bounds
+//            gamma(4)·Σ|a_ji (o_j - c_j)| and gamma(3)·Σ|a_ji d_j| (derivation at
+//            ObbFrame), then the slab values in interval arithmetic; these intervals
+//            decide every comparison they separate; the rest, and the sign of d'_i, are
+//            decided exactly: num = ±h_i - Σ_j a_ji (o_j - c_j) and den = Σ_j a_ji d_j
+//            are degree 2, comparisons of two slab values degree 4 (detail/exact.hpp).
+//            t is pinned as on the straight-line path first (so the two paths answer
+//            alike bit for bit), next rounded from the interval when it lies strictly
 //            between the neighbours of its midpoint, else exactly.
 #pragma once
 
@@ -165,7 +170,8 @@ public:
         return expansion_safe(r_->origin) && expansion_safe(r_->direction) && expansion_safe(b_->center) &&
                expansion_safe(b_->axes) && expansion_safe(b_->half_extent);
     }
-    // t faithfully rounded to T: by pin_quotient first (for float the faithful double
+    // t faithfully rounded to T: by pin_quotient first (the straight-line path's rounding,
+    // so that the two paths answer alike bit for bit; for float the faithful double
     // rounded to nearest), next from the enclosure when it pins one float, else exactly.
     T faithful(int i, int side, const Interval<double>& v, bool& went_exact) const {
         if (const PinnedQuotient x = pin_quotient(obb_slab_sums(*r_, *b_, i, side)); x.pinned) return faithful_to<T>(x.c);
@@ -207,9 +213,111 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, conser
     return slab_conservative(ObbFrame<T>(r, p.box), r.t_min, r.t_max);
 }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, certified_t) {
+// The certified answer's common case in straight-line code, as the box's
+// (aabb_certified_common): the entry problem in lane 0 and the exit problem, negated, in
+// lane 1 of detail/lanes.hpp, but each slab value with its own bound, since the frame's
+// errors are not relative to the value.
+// Frame: o'_i~ = fl(Σ_j a_ji fl(o_j - c_j)) and d'_i~ = fl(Σ_j a_ji d_j), within eo_i =
+// 2·gamma(4)·Σ|a_ji Δ~_j| + 2^-1022 and ed_i = 2·gamma(3)·Σ|a_ji d_j| + 2^-1022 of the
+// exact o'_i, d'_i (the derivation is at ObbFrame's certified constructor). The path asks
+// ed_i <= 2^-20|d'_i~| (the sign of d'_i is then certain and the ray is not nearly
+// parallel to the slab).
+// Slab values: num~ = fl(±h_i - o'_i~) is within eo + u|num~| of the exact numerator,
+// inv = fl(1/d'_i~) and t~ = fl(num~·inv). With t = num/d'_i,
+//     |t - num~/d'~| <= (|num - num~| + |num~|·ed·|1/d'~|)/(|d'~| - ed)
+//                    <= (eo + |num~|(u + ed·|inv|(1 + 2u)))·|inv|(1 + 2^-19),
+// and |t~ - num~/d'~| <= 3u|t~| (the roundings of inv and of the product), so E =
+// 2·((eo + |num~|(u + ed·|inv|))·|inv| + 3u|t~|) + 2^-1022 bounds |t - t~| (the doubling
+// covers the factors above and the bound's own roundings; 2^-1022 the underflow of its
+// products).
+// Winners: per lane, the axis w of the largest value wins certainly when its lower
+// bound V_w - E_w lies above the upper bound V_j + E_j of every other axis (exactly one
+// upper bound reaches it: w's own), and above the limit (t_min, or -t_max in lane 1);
+// the limit wins certainly when every upper bound lies below it. The verdict is certain
+// when the entry's upper bound lies below the exit's lower bound (a hit) or the entry's
+// lower bound above the exit's upper bound (a miss, which needs no winner). All of it
+// runs without a branch on the ray's direction; each winning slab value is then rounded
+// by pin_quotient (obb_slab_sums), as the general path rounds it first. Anything these
+// checks cannot vouch for (a value not finite, a slab nearly parallel, close values, a
+// value pin_quotient cannot pin) goes to the general path.
+template <class T>
+RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_certified_common(const Ray<T>& r, const Obb<T>& b) {
+    using namespace lanes;
+    constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022, u = exact_impl::u;
+    D2 delta_d[3];  // (fl(o_j - c_j), d_j)
+    for (int j = 0; j < 3; ++j)
+        delta_d[j] = make(double(r.origin[j]) - double(b.center[j]), double(r.direction[j]));
+    D2 V[3], E[3], probe = splat(0.0);
+    int negative = 0;  // bit i: d'_i < 0
+    bool slabs_ok = true;
+    for (int i = 0; i < 3; ++i) {
+        D2 od = splat(0.0), mag = splat(0.0);  // (o'_i, d'_i) and the sums of their terms' magnitudes
+        for (int j = 0; j < 3; ++j) {
+            const D2 x = splat(double(b.axes(j, i))) * delta_d[j];
+            od = od + x;
+            mag = mag + abs(x);
+        }
+        const D2 err = mag * make(g4, g3) + splat(eta);
+        const double op = lane0(od), dp = lane1(od), eo = lane0(err), ed = lane1(err), h = double(b.half_extent[i]);
+        const double inv = 1 / dp, ai = std::abs(inv);
+        slabs_ok = int(slabs_ok) & int(ed <= 0x1p-20 * std::abs(dp));
+        const D2 num = make(-h - op, h - op), t = num * splat(inv);  // sides 0 and 1
+        const D2 e = (splat(eo) + abs(num) * splat(u + ed * ai)) * splat(ai) + splat(3 * u) * abs(t);
+        const D2 bound = (e + e) + splat(eta);
+        const M2 neg = splat(dp) < splat(0.0);  // side 1 is entered
+        negative |= (bits(neg) & 1) << i;
+        V[i] = negate_lane1(select(neg, swap(t), t));
+        E[i] = select(neg, swap(bound), bound);
+        probe = (probe + (V[i] - V[i])) + (E[i] - E[i]);
+    }
+    const D2 L[3] = {V[0] - E[0], V[1] - E[1], V[2] - E[2]}, H[3] = {V[0] + E[0], V[1] + E[1], V[2] + E[2]};
+    // The largest value per lane (w: entry axis, v: exit axis) and its lower bound.
+    const M2 c1 = V[1] > V[0], c2m = V[2] > max(V[0], V[1]);
+    const int c01 = bits(c1), c2 = bits(c2m), c = c01 & ~c2;
+    const int w = (c & 1) | ((c2 & 1) << 1), v = ((c >> 1) & 1) | (c2 & 2);
+    const D2 Lw = select(c2m, L[2], select(c1, L[1], L[0]));
+    const int r0 = bits(H[0] >= Lw), r1 = bits(H[1] >= Lw), r2 = bits(H[2] >= Lw);
+    const int unique = (r0 ^ r1 ^ r2) & ~(r0 & r1 & r2);  // per lane: exactly one upper bound reaches Lw
+    const D2 limit = make(double(r.t_min), -double(r.t_max));
+    const int axis_wins = unique & bits(Lw > limit);
+    const D2 Hmax = max(max(H[0], H[1]), H[2]), Lmax = max(max(L[0], L[1]), L[2]);
+    const int limit_wins = bits(Hmax < limit);
+    const D2 hh = max(limit, Hmax), gg = max(limit, Lmax);
+    const bool hit = int((axis_wins | limit_wins) == 3) & int(bits(hh < -swap(hh)) == 3);
+    const bool miss = bits(gg > -swap(gg)) == 3;
+    const bool finite = bits(probe == splat(0.0)) == 3;
+    if (!(finite && slabs_ok && (hit || miss))) return std::nullopt;
+    Hit<T> out;
+    if (!hit) return out;
+    T t_enter = r.t_min, t_exit = r.t_max;
+    const int side_in = (negative >> w) & 1, side_out = 1 - ((negative >> v) & 1);
+    if (axis_wins & 1) {
+        const PinnedQuotient x = pin_quotient(obb_slab_sums(r, b, w, side_in));
+        if (!x.pinned) return std::nullopt;
+        t_enter = faithful_to<T>(x.c);
+    }
+    if (axis_wins & 2) {
+        const PinnedQuotient x = pin_quotient(obb_slab_sums(r, b, v, side_out));
+        if (!x.pinned) return std::nullopt;
+        t_exit = faithful_to<T>(x.c);
+    }
+    // As slab_certified: two exact values in one gap may round apart the wrong way.
+    if (t_enter > t_exit) t_enter = t_exit;
+    out.verdict = Verdict::hit;
+    out.t_enter = t_enter;
+    out.t_exit = t_exit;
+    out.face = (axis_wins & 1) ? 2 * w + side_in : -1;
+    return out;
+}
+
+// The general path, out of line (it is rare).
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> obb_certified_general(const Ray<T>& r, const Obb<T>& b) {
+    return slab_certified(ObbFrame<T>(r, b, certified_t{}), r.t_min, r.t_max);
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, certified_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return slab_certified(ObbFrame<T>(r, p.box, certified_t{}), r.t_min, r.t_max);
+    return common_or_general(obb_certified_common(r, p.box), [&] { return obb_certified_general(r, p.box); });
 }
 
 }  // namespace rayproof::detail
