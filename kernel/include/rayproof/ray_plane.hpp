@@ -291,8 +291,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_certified_common(const Ray<T>
         return h;
     }
     if (!(rest_valid && (x.lying || x.parallel))) return std::nullopt;
-    const auto nonzero = [](const Vec3<T>& v) { return v[0] != 0 || v[1] != 0 || v[2] != 0; };
-    if (!nonzero(p.normal) || !nonzero(r.direction)) return std::nullopt;
+    if (!nonzero3(p.normal.data()) || !nonzero3(r.direction.data())) return std::nullopt;
     if (x.lying) {
         h.verdict = Verdict::hit;
         h.t_enter = r.t_min;

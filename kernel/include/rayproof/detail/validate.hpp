@@ -17,6 +17,9 @@ namespace rayproof::detail {
 // number (most queries are valid; the checks are joined with & for the same reason).
 template <class T> RAYPROOF_ALWAYS_INLINE T finite_probe(const T* v) { return ((v[0] - v[0]) + (v[1] - v[1])) + (v[2] - v[2]); }
 
+// v is not the zero vector (every component +0 or -0).
+template <class T> RAYPROOF_ALWAYS_INLINE bool nonzero3(const T* v) { return (v[0] != 0) | (v[1] != 0) | (v[2] != 0); }
+
 // The rules on t_min and t_max alone: t_min <= t_max is false when either is NaN; -inf
 // and +inf are the allowed exceptions.
 template <class T> RAYPROOF_ALWAYS_INLINE bool valid_range(const Ray<T>& r) {
@@ -31,8 +34,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE bool valid_apart_from_direction(const 
 
 template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Ray<T>& r) {
     const T* d = r.direction.data();
-    const bool rest = valid_apart_from_direction(r), finite = finite_probe(d) == 0;
-    return rest & finite & ((d[0] != 0) | (d[1] != 0) | (d[2] != 0));
+    const bool rest = valid_apart_from_direction(r), finite = finite_probe(d) == 0, nonzero = nonzero3(d);
+    return rest & finite & nonzero;
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Aabb<T>& b) {
@@ -48,7 +51,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Sphere<T>& s) {
 
 template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Plane<T>& p) {
     const T* n = p.normal.data();
-    return (finite_probe(n) + (p.offset - p.offset) == 0) & ((n[0] != 0) | (n[1] != 0) | (n[2] != 0));
+    const bool finite = finite_probe(n) + (p.offset - p.offset) == 0, nonzero = nonzero3(n);
+    return finite & nonzero;
 }
 
 template <class T> bool valid(const Obb<T>& b) {
