@@ -10,6 +10,8 @@
 //   conservative    boxes, -1 for planes and spheres
 //   batch           the batch form answers the ray and its reverse exactly as the scalar
 //                   form does, in every mode (bit for bit)
+//   verdict         verdict(), scalar and batch, equals the full answer's verdict in
+//                   every mode (so the certified one is exact too)
 // `fast` promises no accuracy: it is held only to the first line (and to the sanitizers).
 // A violation prints the case in hexadecimal floating point, the answer, the oracle's
 // exact answer and the judgement, then aborts.
@@ -120,6 +122,25 @@ template <class T, class Shape, class Mode> void check_batch(const Ray<T>& ray, 
     }
 }
 
+template <class T, class Shape, class Mode> void check_verdict(const Ray<T>& ray, const Shape& shape, Mode mode) {
+    const std::array<Ray<T>, 2> rays = {ray, reversed(ray)};
+    std::array<Verdict, 2> out;
+    verdict(std::span<const Ray<T>>(rays), shape, mode, std::span<Verdict>(out));
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const Hit<T> full = intersect(rays[i], shape, mode);
+        const Verdict scalar = verdict(rays[i], shape, mode);
+        if (scalar != full.verdict || out[i] != full.verdict) {
+            const std::string d = describe<T, Shape>("verdict() differs from the full answer's verdict", mode_name(mode));
+            filter(d);
+            std::cerr << "\n==== rayproof fuzz: contract violation: " << d << '\n';
+            if (!current_input().empty()) std::cerr << "input:    " << current_input() << '\n';
+            std::cerr << "ray:      " << rays[i] << "\nshape:    " << shape << "\nfull:     " << full
+                      << "\nverdict:  " << scalar << " (batch: " << out[i] << ")\n";
+            std::abort();
+        }
+    }
+}
+
 // RAYPROOF_FUZZ_PRINT set: every decoded case is printed before it is checked (to see
 // the case of a hang or of a sanitizer report).
 inline bool print_cases() {
@@ -139,6 +160,9 @@ template <class T, class Shape> void check_case(const Ray<T>& ray, const Shape& 
     check_batch(ray, shape, certified);
     check_batch(ray, shape, conservative);
     check_batch(ray, shape, fast);
+    check_verdict(ray, shape, certified);
+    check_verdict(ray, shape, conservative);
+    check_verdict(ray, shape, fast);
 }
 
 // The body of a shape target: the header picks float or double.

@@ -9,7 +9,9 @@
 // exact-stage answer, bit for bit, on the same cases (the filter may only decide what
 // the exact stage would decide the same way), and that the certified box's, oriented
 // box's, plane's and sphere's straight-line common paths agree bit for bit with the general paths
-// wherever they answer, on every generator, and answer nearly every general-position case.
+// wherever they answer, on every generator, and answer nearly every general-position case;
+// the same for the certified Aabb's verdict path, and that the Aabb's straight-line paths,
+// which check validity themselves, decline every invalid variant of valid cases.
 #include <rayproof/generators.hpp>
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
@@ -22,7 +24,10 @@
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace rayproof::detail {
 
@@ -169,6 +174,97 @@ TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {
     common_agrees_with_general<T, Aabb<T>>([](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_common(r, b); },
                                            [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_general(r, b); });
 }
+// The verdict query's straight-line path: wherever it answers, the general path's
+// verdict; it answers whatever the full query's straight-line path answers (it needs a
+// subset of the same conditions), so nearly every general-position case.
+TYPED_TEST(CertifiedExactStage, AabbVerdictPathAgreesWithGeneralPath) {
+    using T = TypeParam;
+    const std::uint64_t base = seed();
+    for (const auto& g : gen::generators<T, Aabb<T>>()) {
+        const std::string_view name = g.name;
+        gen::Rng rng(base);
+        int answered = 0;
+        const int n = 4 * cases();
+        for (int k = 0; k < n; ++k) {
+            const auto c = g.make(rng);
+            if (!detail::valid(c.ray) || !detail::valid(c.shape)) continue;
+            const int v = detail::aabb_verdict_common(c.ray, c.shape);
+            const std::optional<Hit<T>> full = detail::aabb_certified_common(c.ray, c.shape);
+            const std::string where = "generator " + std::string(name) + " case " + std::to_string(k) +
+                                      " (RAYPROOF_SEED=" + std::to_string(base) + ")";
+            if (full) {
+                ASSERT_NE(v, detail::aabb_declined) << where << ": the full path answered, the verdict path declined";
+            }
+            if (v == detail::aabb_declined) continue;
+            ++answered;
+            const Hit<T> general = detail::aabb_certified_general(c.ray, c.shape);
+            ASSERT_EQ(Verdict(v), general.verdict) << where << ": " << c.ray << " vs " << c.shape;
+        }
+        if (name == "general") {
+            EXPECT_GE(answered, n - n / 100) << "the verdict path answered " << answered << " of " << n;
+        }
+    }
+}
+
+// The Aabb's straight-line paths check validity themselves (no flag from outside): on
+// every invalid variant of valid cases they decline, and the public answers are invalid.
+TYPED_TEST(CertifiedExactStage, AabbStraightLinePathsDeclineInvalidInput) {
+    using T = TypeParam;
+    const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
+    const std::uint64_t base = seed();
+    int variants = 0;
+    for (const auto& g : gen::generators<T, Aabb<T>>()) {
+        gen::Rng rng(base);
+        for (int k = 0; k < cases() / 8; ++k) {
+            const auto c = g.make(rng);
+            if (!detail::valid(c.ray) || !detail::valid(c.shape)) continue;
+            std::vector<std::pair<Ray<T>, Aabb<T>>> bad;
+            for (int i = 0; i < 3; ++i) {
+                for (const T x : {nan, inf, -inf}) {
+                    Ray<T> r = c.ray;
+                    r.origin[i] = x;
+                    bad.push_back({r, c.shape});
+                    r = c.ray;
+                    r.direction[i] = x;
+                    bad.push_back({r, c.shape});
+                    Aabb<T> b = c.shape;
+                    b.lo[i] = x;
+                    bad.push_back({c.ray, b});
+                    b = c.shape;
+                    b.hi[i] = x;
+                    bad.push_back({c.ray, b});
+                }
+                if (c.shape.lo[i] < c.shape.hi[i]) {
+                    Aabb<T> b = c.shape;
+                    std::swap(b.lo[i], b.hi[i]);
+                    bad.push_back({c.ray, b});
+                }
+            }
+            for (const auto& [t_min, t_max] : {std::pair{nan, c.ray.t_max}, std::pair{c.ray.t_min, nan}, std::pair{inf, inf},
+                                               std::pair{-inf, -inf}, std::pair{T(2), T(1)}}) {
+                Ray<T> r = c.ray;
+                r.t_min = t_min;
+                r.t_max = t_max;
+                bad.push_back({r, c.shape});
+            }
+            Ray<T> zero = c.ray;
+            zero.direction = Vec3<T>(T(0), -T(0), T(0));
+            bad.push_back({zero, c.shape});
+            for (const auto& [r, b] : bad) {
+                if (detail::valid(r) && detail::valid(b)) continue;  // e.g. a NaN replacing a NaN-free value of a flat box
+                ++variants;
+                const std::string where = std::string(g.name) + " case " + std::to_string(k) + " (RAYPROOF_SEED=" +
+                                          std::to_string(base) + ")";
+                ASSERT_FALSE(detail::aabb_certified_common(r, b).has_value()) << where << ": " << r << " vs " << b;
+                ASSERT_EQ(detail::aabb_verdict_common(r, b), detail::aabb_declined) << where << ": " << r << " vs " << b;
+                ASSERT_EQ(intersect(r, b, certified).verdict, Verdict::invalid) << where;
+                ASSERT_EQ(verdict(r, b, certified), Verdict::invalid) << where;
+            }
+        }
+    }
+    EXPECT_GT(variants, 1000);
+}
+
 TYPED_TEST(CertifiedExactStage, ObbStraightLinePathAgreesWithGeneralPath) {
     using T = TypeParam;
     common_agrees_with_general<T, Obb<T>>([](const Ray<T>& r, const Obb<T>& b) { return detail::obb_certified_common(r, b); },

@@ -304,6 +304,39 @@ template <class T, class Shape> struct Tester {
         });
     }
 
+    // verdict() (the verdict alone), scalar and batch, equals the full answer's verdict
+    // in every mode, and in certified mode the oracle's verdict (so a verdict path of its
+    // own, as the certified Aabb has, cannot drift from the full query).
+    static void verdict_query_equals_full_query() {
+        rc::detail::checkGTest([] {
+            const auto d = draw<T, Shape>();
+            const Verdict exact = oracle::exact(d.c.ray, d.c.shape).verdict;
+            const std::vector<Ray<T>> rays{d.c.ray, reversed(d.c.ray)};
+            for_each_mode<T, Shape>([&](auto mode) {
+                std::vector<Verdict> batch(rays.size());
+                verdict(std::span<const Ray<T>>(rays), d.c.shape, mode, std::span<Verdict>(batch));
+                for (std::size_t i = 0; i < rays.size(); ++i) {
+                    const Hit<T> full = intersect(rays[i], d.c.shape, mode);
+                    const Verdict alone = verdict(rays[i], d.c.shape, mode);
+                    if (alone != full.verdict || batch[i] != full.verdict) {
+                        std::ostringstream os;
+                        os << mode_name(mode) << (i ? " (reversed ray)" : "") << ": verdict() " << alone << ", batch "
+                           << batch[i] << ", full answer " << full << "\n  " << d.where();
+                        RC_FAIL(os.str());
+                    }
+                }
+                if constexpr (std::is_same_v<decltype(mode), certified_t>) {
+                    if (verdict(d.c.ray, d.c.shape, mode) != exact) {
+                        std::ostringstream os;
+                        os << "certified verdict() " << verdict(d.c.ray, d.c.shape, mode) << ", exact " << exact << "\n  "
+                           << d.where();
+                        RC_FAIL(os.str());
+                    }
+                }
+            });
+        });
+    }
+
     // The fast mode promises no accuracy: its wrong answers are counted per generator and
     // printed (and recorded as test properties), not asserted. Asserted: what the fast
     // mode does promise (invalid inputs answered invalid, and nothing else answered
@@ -370,4 +403,5 @@ template <class T, class Shape> struct Tester {
     TYPED_TEST(Suite, CertifiedAxisPermutationPermutesFaces) { Suite##Tester<TypeParam>::certified_permutation(); } \
     TYPED_TEST(Suite, CertifiedReversalMirrorsInterval) { Suite##Tester<TypeParam>::certified_reversal(); }    \
     TYPED_TEST(Suite, BatchEqualsScalar) { Suite##Tester<TypeParam>::batch_equals_scalar(); }                  \
+    TYPED_TEST(Suite, VerdictQueryEqualsFullQuery) { Suite##Tester<TypeParam>::verdict_query_equals_full_query(); } \
     TYPED_TEST(Suite, FastModeErrorsPerGenerator) { Suite##Tester<TypeParam>::fast_mode_error_counts(); }

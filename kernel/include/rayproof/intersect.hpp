@@ -39,6 +39,38 @@ void intersect(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std:
     for (std::size_t i = 0; i < rays.size(); ++i) out[i] = detail::query(rays[i], prepared, mode);
 }
 
+namespace detail {
+// The verdict alone, for shapes and modes without a verdict path of their own: the full
+// query's verdict (the rest of its answer is dead code the compiler drops where it can).
+template <class T, class Prepared, class Mode>
+RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const Prepared& p, Mode mode) {
+    return query(r, p, mode).verdict;
+}
+}  // namespace detail
+
+// The verdict alone: verdict(ray, shape, mode) == intersect(ray, shape, mode).verdict
+// for every input, in every mode (a certified verdict is the exact one). It asks the
+// question CGAL's do_intersect answers, and where a shape has a verdict path of its own
+// (the certified Aabb) it skips what only the full answer needs: the winning slabs, the
+// face and the rounding of t. That path decides with the full query's own bounds and
+// hands what they cannot decide to the same general path, so the two cannot disagree.
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mode mode) {
+    return detail::verdict_query(ray, detail::prepare(shape), mode);
+}
+
+// Batch form: out[i] = verdict(rays[i], shape, mode), the shape prepared once.
+// Precondition, checked: out.size() == rays.size() (std::invalid_argument).
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+void verdict(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::span<Verdict> out) {
+    if (out.size() != rays.size())
+        throw std::invalid_argument("rayproof::verdict: out.size() must equal rays.size()");
+    const auto prepared = detail::prepare(shape);
+    for (std::size_t i = 0; i < rays.size(); ++i) out[i] = detail::verdict_query(rays[i], prepared, mode);
+}
+
 // The same ray traversed backwards: the set { o + s·(-d) : s in [-t_max, -t_min] }.
 // Its interval against a shape is [-t_exit, -t_enter] of the original, and its entry
 // face is the original's exit face (negation is exact, so no accuracy is lost).

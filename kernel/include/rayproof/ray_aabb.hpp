@@ -43,6 +43,9 @@
 //            arithmetic beyond.
 //            For float, every step runs in double: a faithfully rounded double rounded
 //            to nearest float is a faithfully rounded float.
+//            The verdict alone (verdict() in intersect.hpp) runs on the same lanes and
+//            bounds (aabb_verdict_common): a certain verdict needs no winner and no
+//            rounding, and what it cannot decide goes to the same general path.
 #pragma once
 
 #include <rayproof/detail/lanes.hpp>
@@ -52,12 +55,14 @@
 
 namespace rayproof::detail {
 
-// A box with its validity decided once (the batch form prepares once per call).
+// A box with its validity decided once (the batch form prepares once per call). It
+// refers to the caller's box, which outlives the query: a copy would live on the stack
+// whenever the general path takes its address, and every query would pay for it.
 template <class T> struct PreparedAabb {
-    Aabb<T> box;
+    const Aabb<T>& box;
     bool ok;
 };
-template <class T> PreparedAabb<T> prepare(const Aabb<T>& b) { return {b, valid(b)}; }
+template <class T> RAYPROOF_ALWAYS_INLINE PreparedAabb<T> prepare(const Aabb<T>& b) { return {b, valid(b)}; }
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
@@ -187,15 +192,16 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 // scalar exit code and both lanes look for a maximum).
 // Per axis the two slab values t~ = fl(fl(p - o)·fl(1/d)); the entry is the smaller and
 // the exit the larger (both roundings are monotone and 1/d has the sign of d, so this is
-// the plane entered: lo for d > 0, hi for d < 0). A sorting network gives per lane the
-// largest value m, the runner-up m2 and the smallest m3; the winner's identity is
-// certain when m2's upper bound lies below m's lower bound, because the bounds
-//     lo(v) = v - (K|v| + eta),  hi(v) = v + (K|v| + eta)
-// are increasing in v (slopes 1 ± K > 0): m2's bound is the largest of the losers'. The
-// limit (t_min, or -t_max in lane 1) wins certainly when hi(m) lies below it. The
-// verdict is certain when the entry's and the exit's [lo, hi] are disjoint. A miss
-// needs no winner at all: the exact latest entry is at least max(lo(m), t_min) and the
-// exact earliest exit at most min(hi(exit m), t_max). Then both winners are rounded
+// the plane entered: lo for d > 0, hi for d < 0). Per lane m is the largest value and
+// m2 the runner-up. With the bounds
+//     lo(v) = v - (K|v| + eta),  hi(v) = v + (K|v| + eta),
+// increasing in v (slopes 1 ± K > 0), the exact lane value (latest entry, negated
+// earliest exit) lies in [max(lo(m), limit), max(hi(m), limit)], limit = t_min in lane
+// 0 and -t_max in lane 1: so the verdict is certain when the entry's and the exit's
+// enclosures are disjoint, and needs no winner (this is all the verdict query uses).
+// The full query also needs the winners: an axis's identity is certain when m2's upper
+// bound lies below m's lower bound (m2's bound is the largest of the losers'), the
+// limit wins certainly when hi(m) lies below it. Then both winners are rounded
 // faithfully, in the two lanes at once (the correction and its derivation are below).
 // Everything runs branch-free (the verdict, the winning axes and the signs of d are as
 // random as the rays); one well-predicted branch hands anything these checks cannot
@@ -208,56 +214,120 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 // eta = 2^-1022 (the smallest normal: a subnormal constant would slow every query on
 // processors that take an assist on subnormal operands), cover that and their own two
 // roundings (see the header comment).
-// Overflow: p - o or fl(s·inv) can overflow to ±inf although t is finite. A wrong +inf
-// becomes m and makes lo(m) NaN, which fails every check it enters; a wrong -inf sinks
-// to m3, which a hit checks to be finite (a miss never looks at the losers: its bounds
-// only weaken without them).
-template <class T>
-RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b, bool rest_valid = true) {
+// Validity and overflow: this path answers only when all six computed values are
+// finite. A finite fl(fl(p - o)·fl(1/d)) with 1/d finite needs p - o finite, hence p and
+// o finite (an infinite or NaN operand gives ±inf or NaN), so with every |d_i| in
+// [2^-500, 2^500] (finite and nonzero), lo <= hi on every axis and the limits checked
+// here, the inputs are valid and no separate validation is needed. An overflow of
+// p - o or of the product (t finite but beyond the range) gives ±inf and sends the
+// query to the general path, which validates in full first.
+
+// The slab values in their two lanes and the bounds every certain verdict rests on,
+// shared by the full query (aabb_certified_common) and the verdict query
+// (aabb_verdict_common), so that the two decide a verdict by the same computation.
+struct AabbLanes {
+    lanes::D2 d01, d22, inv01, inv22;  // the directions and their reciprocals
+    lanes::M2 usable;                  // every |d_i| in [2^-500, 2^500], every value
+                                       // finite, lo <= hi and valid limits
+    lanes::D2 V[3];                    // per axis (entry, -exit) as computed
+    lanes::D2 v01, f01;                // max and min of axes 0 and 1
+    lanes::D2 m;                       // per lane the largest value
+    lanes::D2 limit;                   // (t_min, -t_max)
+    lanes::D2 m_lo, m_hi;              // m's enclosure
+    lanes::M2 hit, miss;               // the verdicts the enclosures prove (hit: not yet
+                                       // the winners, which only the full query needs)
+};
+
+template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, const Aabb<T>& b) {
     using namespace lanes;
     constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
+    AabbLanes L;
     // 1/d for the three axes (axes 0 and 1 in one division), and whether every |d_i| is
     // in [2^-500, 2^500]; outside it (d_i == ±0 included) the values below are
     // meaningless, and the final check sends the query to the general path.
-    const D2 d01 = make(double(r.direction[0]), double(r.direction[1])), d22 = splat(double(r.direction[2]));
-    const D2 inv01 = splat(1.0) / d01, inv22 = splat(1.0) / d22;
-    // Each |d_i| compared on its own: a NaN fails every comparison (min and max would
-    // drop it), so d_in_range also means finite and nonzero, which query() relies on.
-    const D2 a01 = abs(d01), a22 = abs(d22);
-    const M2 d_in_range = (a01 >= splat(0x1p-500)) & (a01 <= splat(0x1p500)) & (a22 >= splat(0x1p-500)) & (a22 <= splat(0x1p500));
-    const double inv[3] = {lane0(inv01), lane1(inv01), lane0(inv22)};
-    // Per axis (entry, -exit) = min((t_lo, -t_hi), (t_hi, -t_lo)), the slab values
-    // t~ = fl(fl(p - o)·fl(1/d)); (lo - o, o - hi) is (t_lo, -t_hi)·d exactly as
-    // rounded, rounding to nearest being symmetric.
-    D2 V[3];
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC unroll 3
-#elif defined(__clang__)
-#pragma clang loop unroll(full)
-#endif
-    for (int i = 0; i < 3; ++i) {
-        const double o = r.origin[i];
-        const D2 x = (make(double(b.lo[i]), o) - make(o, double(b.hi[i]))) * splat(inv[i]);
-        V[i] = min(x, -swap(x));
-    }
-    // m >= m2 >= m3 per lane, and the winning axes (w: entry, v: exit) from the lane
+    L.d01 = load2(r.direction.data());
+    L.d22 = splat(double(r.direction[2]));
+    L.inv01 = splat(1.0) / L.d01;
+    L.inv22 = splat(1.0) / L.d22;
+    // min and max drop a NaN d_i, but a NaN makes its slab values NaN, which the
+    // finiteness probe below catches.
+    const D2 a01 = abs(L.d01), a22 = abs(L.d22);
+    const M2 d_in_range = (min(a01, a22) >= splat(0x1p-500)) & (max(a01, a22) <= splat(0x1p500));
+    // Per axis x = (t_lo, -t_hi), the slab values t~ = fl(fl(p - o)·fl(1/d)) ((lo - o,
+    // o - hi) is (t_lo, -t_hi)·d exactly as rounded, rounding to nearest being
+    // symmetric), and (entry, -exit) = min(x, -swap(x)). Axes 0 and 1 are computed side
+    // by side, (t_lo0, t_lo1) and (-t_hi0, -t_hi1), and regrouped per axis (the same
+    // operations on the same operands as axis 2). probe sums x - x, which is 0 exactly
+    // when every value is finite (NaN otherwise).
+    const D2 o01 = load2(r.origin.data()), lo01 = load2(b.lo.data()), hi01 = load2(b.hi.data());
+    const D2 t_lo01 = (lo01 - o01) * L.inv01, t_hi01 = (o01 - hi01) * L.inv01;
+    const double o2 = double(r.origin[2]);
+    const D2 p2 = make(double(b.lo[2]), o2), q2 = make(o2, double(b.hi[2]));
+    const D2 x0 = lows(t_lo01, t_hi01), x1 = highs(t_lo01, t_hi01), x2 = (p2 - q2) * L.inv22;
+    const D2 probe = ((t_lo01 - t_lo01) + (t_hi01 - t_hi01)) + (x2 - x2);
+    L.V[0] = min(x0, -swap(x0));
+    L.V[1] = min(x1, -swap(x1));
+    L.V[2] = min(x2, -swap(x2));
+    L.limit = make(r.t_min, -double(r.t_max));
+    // lo <= hi on the three axes (lane 1 of the axis-2 test is o2 <= o2, true for the
+    // finite values that pass the probe), and the limits: t_min <= t_max in both lanes
+    // (the same test), t_min != +inf in lane 0 and t_max != -inf in lane 1 (NaN fails
+    // both).
+    const M2 boxed = (lo01 <= hi01) & (p2 <= swap(q2));
+    const M2 limits = (L.limit < splat(inf)) & (L.limit <= -swap(L.limit));
+    L.usable = d_in_range & (probe == splat(0.0)) & boxed & limits;
+    L.v01 = max(L.V[0], L.V[1]);
+    L.f01 = min(L.V[0], L.V[1]);
+    L.m = max(L.v01, L.V[2]);
+    const D2 bm = abs(L.m) * splat(K) + splat(eta);
+    L.m_lo = L.m - bm;
+    L.m_hi = L.m + bm;
+    // The exact lane value (the latest entry, the negated earliest exit) lies in
+    // [max(limit, m_lo), max(limit, m_hi)]: every exact slab value lies below the
+    // upper bound of its computed one, and these bounds increase with the value, so
+    // below m_hi; and the exact maximum is at least the exact value of m's own axis.
+    // h: the entry's upper and the exit's lower bound, g: the bounds a miss is judged
+    // on. h0 < -h1 and h1 < -h0 are the same test, so comparing with -swap gives it in
+    // both lanes (and the same for g): these masks are all-ones or all-zeros.
+    const D2 h = max(L.limit, L.m_hi), g = max(L.limit, L.m_lo);
+    L.hit = h < -swap(h);
+    L.miss = g > -swap(g);
+    return L;
+}
+
+// The certified verdict alone (verdict() in intersect.hpp) from the same lanes: a hit
+// is certain when the latest entry's upper bound lies below the earliest exit's lower
+// bound, a miss when the latest entry's lower bound lies above the earliest exit's
+// upper bound; no winner is needed, and nothing is rounded. int(Verdict::miss) or
+// int(Verdict::hit), or aabb_declined (the general path decides), as an int rather
+// than an optional: an optional's flag goes through memory here, on every query.
+inline constexpr int aabb_declined = -1;
+template <class T> RAYPROOF_ALWAYS_INLINE int aabb_verdict_common(const Ray<T>& r, const Aabb<T>& b) {
+    using namespace lanes;
+    const AabbLanes L = aabb_lanes(r, b);
+    static_assert(int(Verdict::miss) == 0 && int(Verdict::hit) == 1);
+    return bits(L.usable & (L.miss | L.hit)) == 3 ? int(bits(L.hit) == 3) : aabb_declined;
+}
+
+// The full query: the verdict above, then the winners' identity and their faithful
+// rounding.
+template <class T>
+RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
+    using namespace lanes;
+    constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022;
+    const AabbLanes L = aabb_lanes(r, b);
+    const D2 d01 = L.d01, d22 = L.d22, m = L.m, limit = L.limit, m_lo = L.m_lo, m_hi = L.m_hi;
+    const double inv[3] = {lane0(L.inv01), lane1(L.inv01), lane0(L.inv22)};
+    // The runner-up m2 per lane, and the winning axes (w: entry, v: exit) from the lane
     // masks with bit arithmetic (ties fail the checks below, so their order does not
     // matter).
-    const D2 v01 = max(V[0], V[1]), f01 = min(V[0], V[1]);
-    const D2 m = max(v01, V[2]), m2 = max(f01, min(v01, V[2])), m3 = min(f01, V[2]);
-    const int c01 = bits(V[1] > V[0]), c2 = bits(V[2] > v01), c = c01 & ~c2;
+    const D2 m2 = max(L.f01, min(L.v01, L.V[2]));
+    const int c01 = bits(L.V[1] > L.V[0]), c2 = bits(L.V[2] > L.v01), c = c01 & ~c2;
     const int w = (c & 1) | ((c2 & 1) << 1), v = ((c >> 1) & 1) | (c2 & 2);
-    const D2 limit = make(r.t_min, -double(r.t_max));
-    const D2 bm = abs(m) * splat(K) + splat(eta);
-    const D2 m_lo = m - bm, m_hi = m + bm, m2_hi = m2 + (abs(m2) * splat(K) + splat(eta));
+    const D2 m2_hi = m2 + (abs(m2) * splat(K) + splat(eta));
     // Per lane: the axis certainly wins, or the limit certainly does.
     const M2 axis_wins = (m2_hi < m_lo) & (m_lo > limit), limit_wins = m_hi < limit;
-    // The entry's upper and the exit's lower bound h (max keeps a NaN m_hi), and the
-    // bounds g a miss is judged on (max keeps a NaN m_lo). h0 < -h1 and h1 < -h0 are the
-    // same test, so comparing with -swap gives it in both lanes (and the same for g):
-    // these masks are all-ones or all-zeros.
-    const D2 h = max(limit, m_hi), g = max(limit, m_lo);
-    const M2 hit = (axis_wins | limit_wins) & (m3 > splat(-inf)) & (h < -swap(h)), miss = g > -swap(g);
+    const M2 hit = (axis_wins | limit_wins) & L.hit, miss = L.miss;
     // The winners rounded faithfully, computed on every path (discarded when a limit
     // wins, or on a miss): lane 0 the plane entered on axis w, lane 1 the plane left on
     // axis v in the negated problem (o - p). With s + e = p - o exactly (two_sum),
@@ -286,7 +356,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
     const D2 am = abs(m);
     const M2 rounded = limit_wins | ((am >= splat(0x1p-400)) & (am <= splat(0x1p400))) | (se.hi == splat(0.0));
     // One branch on both lanes: a miss, or a hit decided and rounded in both.
-    if ((bits(d_in_range & (miss | (hit & rounded))) != 3) | !rest_valid) return std::nullopt;
+    if (bits(L.usable & (miss | (hit & rounded))) != 3) return std::nullopt;
     // The winner's value lies above the limit when the axis wins (its faithful rounding
     // too: the limit is a float) and below it when the limit wins, so max(tc, limit)
     // selects without a branch (a NaN tc gives the limit). Then (t_enter, t_exit) with
@@ -306,19 +376,31 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
 }
 
 // The general path, out of line: it is rare, and inlined it would make every query pay
-// for its stack frame.
+// for its stack frame. The inputs are assumed valid.
 template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_general(const Ray<T>& r, const Aabb<T>& b) {
     return slab_certified(AabbFrame<T>(r, b), r.t_min, r.t_max);
 }
 
+// What the straight-line paths decline: validated in full (they answer only for valid
+// input, see the validity note above), then the general path.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_declined(const Ray<T>& r, const Aabb<T>& b) {
+    return !valid(b) || !valid(r) ? invalid_hit<T>() : aabb_certified_general(r, b);
+}
+
+// The certified answer in full. The prepared flag is not consulted: the straight-line
+// path checks validity itself, and what it declines is validated again.
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
-    // The straight-line path answers only for directions with every |d_i| in [2^-500,
-    // 2^500] (finite, nonzero), so it takes the rest of the validity rules as a flag
-    // folded into its one branch; anything it declines is validated in full first.
-    const bool rest_valid = valid_apart_from_direction(r);
-    return common_or_general(aabb_certified_common(r, p.box, p.ok & rest_valid), [&] {
-        return !p.ok || !valid(r) ? invalid_hit<T>() : aabb_certified_general(r, p.box);
-    });
+    return common_or_general(aabb_certified_common(r, p.box), [&] { return aabb_certified_declined(r, p.box); });
+}
+
+// The certified verdict alone: the same lanes and the same fallback as the full query.
+template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
+    const int v = aabb_verdict_common(r, p.box);
+    if (v != aabb_declined) [[likely]] {
+        RAYPROOF_COUNT_QUERY();
+        return Verdict(v);
+    }
+    return aabb_certified_declined(r, p.box).verdict;
 }
 
 }  // namespace rayproof::detail

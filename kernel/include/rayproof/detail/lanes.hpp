@@ -43,6 +43,14 @@ struct M2 {
 };
 RAYPROOF_ALWAYS_INLINE D2 make(double lane0, double lane1) { return {_mm_set_pd(lane1, lane0)}; }
 RAYPROOF_ALWAYS_INLINE D2 splat(double x) { return {_mm_set1_pd(x)}; }
+// (p[0], p[1]) as doubles (exact for float), in one load.
+RAYPROOF_ALWAYS_INLINE D2 load2(const double* p) { return {_mm_loadu_pd(p)}; }
+RAYPROOF_ALWAYS_INLINE D2 load2(const float* p) {
+    return {_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))))};
+}
+// (lane 0 of a, lane 0 of b) and (lane 1 of a, lane 1 of b).
+RAYPROOF_ALWAYS_INLINE D2 lows(D2 a, D2 b) { return {_mm_unpacklo_pd(a.v, b.v)}; }
+RAYPROOF_ALWAYS_INLINE D2 highs(D2 a, D2 b) { return {_mm_unpackhi_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE double lane0(D2 a) { return _mm_cvtsd_f64(a.v); }
 RAYPROOF_ALWAYS_INLINE double lane1(D2 a) { return _mm_cvtsd_f64(_mm_unpackhi_pd(a.v, a.v)); }
 RAYPROOF_ALWAYS_INLINE D2 swap(D2 a) { return {_mm_shuffle_pd(a.v, a.v, 1)}; }
@@ -103,6 +111,9 @@ struct M2 {
 };
 RAYPROOF_ALWAYS_INLINE D2 make(double lane0, double lane1) { return {lane0, lane1}; }
 RAYPROOF_ALWAYS_INLINE D2 splat(double x) { return {x, x}; }
+template <class T> RAYPROOF_ALWAYS_INLINE D2 load2(const T* p) { return {double(p[0]), double(p[1])}; }
+RAYPROOF_ALWAYS_INLINE D2 lows(D2 x, D2 y) { return {x.a, y.a}; }
+RAYPROOF_ALWAYS_INLINE D2 highs(D2 x, D2 y) { return {x.b, y.b}; }
 RAYPROOF_ALWAYS_INLINE double lane0(D2 x) { return x.a; }
 RAYPROOF_ALWAYS_INLINE double lane1(D2 x) { return x.b; }
 RAYPROOF_ALWAYS_INLINE D2 swap(D2 x) { return {x.b, x.a}; }
