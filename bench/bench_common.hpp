@@ -8,7 +8,8 @@
 //   paired/<shape>/<float|double>/uniform/certified_over_fast
 //                                                       the ratio certified / fast measured
 //                                                       in pairs (counter "ratio")
-// Methods: the kernel's modes fast, conservative, certified; the baselines textbook,
+// Methods: the kernel's modes fast, conservative, certified, and certified_verdict (the
+// verdict query alone, rayproof::verdict in certified mode); the baselines textbook,
 // branchless (boxes), cgal_epeck, cgal_rational (Aabb, Plane, Sphere), embree and
 // embree_robust (Sphere<float>).
 //
@@ -168,6 +169,13 @@ template <class T, class Shape> void register_scalar_kernel(std::string_view wor
     reg("fast", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::fast); });
     reg("conservative", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::conservative); });
     reg("certified", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::certified); });
+    // The verdict alone (rayproof::verdict), stored as the CGAL baselines store theirs:
+    // the question do_intersect answers, on the same cases.
+    reg("certified_verdict", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE {
+        Hit<T> h;
+        h.verdict = verdict(r, s, rayproof::certified);
+        return h;
+    });
     reg("textbook", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return baseline::textbook(r, s); });
     if constexpr (baseline::has_branchless<Shape>)
         reg("branchless", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return baseline::branchless(r, s); });

@@ -203,6 +203,11 @@ template <class T, class Shape> void run_workload(std::string_view w) {
                  [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::conservative); });
     judge_method(w, "certified", cases, exact, n, all,
                  [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::certified); });
+    judge_method(w, "certified_verdict", cases, exact, n, verdict_only, [](std::size_t, const Ray<T>& r, const Shape& s) {
+        Hit<T> h;
+        h.verdict = verdict(r, s, rayproof::certified);
+        return h;
+    });
     judge_method(w, "textbook", cases, exact, n, all,
                  [](std::size_t, const Ray<T>& r, const Shape& s) { return baseline::textbook(r, s); });
     if constexpr (baseline::has_branchless<Shape>)
