@@ -10,8 +10,8 @@
 // the exact stage would decide the same way), and that the certified box's, oriented
 // box's, plane's and sphere's straight-line common paths agree bit for bit with the general paths
 // wherever they answer, on every generator, and answer nearly every general-position case;
-// the same for the certified Aabb's verdict path, and that the Aabb's straight-line paths,
-// which check validity themselves, decline every invalid variant of valid cases.
+// the same for the certified verdict filters (the Aabb's and the plane's), and that the
+// paths which check validity themselves decline every invalid variant of valid cases.
 #include <rayproof/generators.hpp>
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
@@ -174,13 +174,14 @@ TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {
     common_agrees_with_general<T, Aabb<T>>([](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_common(r, b); },
                                            [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_general(r, b); });
 }
-// The verdict query's straight-line path: wherever it answers, the general path's
-// verdict; it answers whatever the full query's straight-line path answers (it needs a
-// subset of the same conditions), so nearly every general-position case.
-TYPED_TEST(CertifiedExactStage, AabbVerdictPathAgreesWithGeneralPath) {
-    using T = TypeParam;
+// A verdict filter (the certified verdict query's straight-line path): wherever it
+// answers, the general path's verdict; it answers nearly every general-position case;
+// and whatever full_answers says the full query's straight-line path answers, it
+// answers too (for the Aabb, whose filter needs a subset of the full path's conditions).
+template <class T, class Shape, class Filter, class General, class FullAnswers>
+void verdict_filter_agrees(Filter&& filter, int declined, General&& general_path, FullAnswers&& full_answers) {
     const std::uint64_t base = seed();
-    for (const auto& g : gen::generators<T, Aabb<T>>()) {
+    for (const auto& g : gen::generators<T, Shape>()) {
         const std::string_view name = g.name;
         gen::Rng rng(base);
         int answered = 0;
@@ -188,17 +189,15 @@ TYPED_TEST(CertifiedExactStage, AabbVerdictPathAgreesWithGeneralPath) {
         for (int k = 0; k < n; ++k) {
             const auto c = g.make(rng);
             if (!detail::valid(c.ray) || !detail::valid(c.shape)) continue;
-            const int v = detail::aabb_verdict_common(c.ray, c.shape);
-            const std::optional<Hit<T>> full = detail::aabb_certified_common(c.ray, c.shape);
+            const int v = filter(c.ray, c.shape);
             const std::string where = "generator " + std::string(name) + " case " + std::to_string(k) +
                                       " (RAYPROOF_SEED=" + std::to_string(base) + ")";
-            if (full) {
-                ASSERT_NE(v, detail::aabb_declined) << where << ": the full path answered, the verdict path declined";
+            if (full_answers(c.ray, c.shape)) {
+                ASSERT_NE(v, declined) << where << ": the full path answered, the verdict path declined";
             }
-            if (v == detail::aabb_declined) continue;
+            if (v == declined) continue;
             ++answered;
-            const Hit<T> general = detail::aabb_certified_general(c.ray, c.shape);
-            ASSERT_EQ(Verdict(v), general.verdict) << where << ": " << c.ray << " vs " << c.shape;
+            ASSERT_EQ(Verdict(v), general_path(c.ray, c.shape).verdict) << where << ": " << c.ray << " vs " << c.shape;
         }
         if (name == "general") {
             EXPECT_GE(answered, n - n / 100) << "the verdict path answered " << answered << " of " << n;
@@ -206,63 +205,119 @@ TYPED_TEST(CertifiedExactStage, AabbVerdictPathAgreesWithGeneralPath) {
     }
 }
 
-// The Aabb's straight-line paths check validity themselves (no flag from outside): on
-// every invalid variant of valid cases they decline, and the public answers are invalid.
-TYPED_TEST(CertifiedExactStage, AabbStraightLinePathsDeclineInvalidInput) {
-    using T = TypeParam;
+// Invalid variants of a valid case: each number of the ray and of the shape replaced by
+// NaN, +inf and -inf in turn, the limits made invalid, the direction zero, and the
+// shape's own rules broken (an Aabb's lo and hi swapped, a plane's normal zero).
+template <class T> void shape_variants(const Aabb<T>& s, std::vector<Aabb<T>>& out) {
     const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
+    for (int i = 0; i < 3; ++i) {
+        for (const T x : {nan, inf, -inf}) {
+            Aabb<T> b = s;
+            b.lo[i] = x;
+            out.push_back(b);
+            b = s;
+            b.hi[i] = x;
+            out.push_back(b);
+        }
+        if (s.lo[i] < s.hi[i]) {
+            Aabb<T> b = s;
+            std::swap(b.lo[i], b.hi[i]);
+            out.push_back(b);
+        }
+    }
+}
+template <class T> void shape_variants(const Plane<T>& s, std::vector<Plane<T>>& out) {
+    const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
+    for (const T x : {nan, inf, -inf}) {
+        for (int i = 0; i < 3; ++i) {
+            Plane<T> q = s;
+            q.normal[i] = x;
+            out.push_back(q);
+        }
+        Plane<T> q = s;
+        q.offset = x;
+        out.push_back(q);
+    }
+    Plane<T> q = s;
+    q.normal = Vec3<T>(T(0), -T(0), T(0));
+    out.push_back(q);
+}
+template <class T, class Shape> std::vector<std::pair<Ray<T>, Shape>> invalid_variants(const Ray<T>& ray, const Shape& shape) {
+    const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
+    std::vector<std::pair<Ray<T>, Shape>> out;
+    for (int i = 0; i < 3; ++i)
+        for (const T x : {nan, inf, -inf}) {
+            Ray<T> r = ray;
+            r.origin[i] = x;
+            out.push_back({r, shape});
+            r = ray;
+            r.direction[i] = x;
+            out.push_back({r, shape});
+        }
+    for (const auto& [t_min, t_max] : {std::pair{nan, ray.t_max}, std::pair{ray.t_min, nan}, std::pair{inf, inf},
+                                       std::pair{-inf, -inf}, std::pair{T(2), T(1)}}) {
+        Ray<T> r = ray;
+        r.t_min = t_min;
+        r.t_max = t_max;
+        out.push_back({r, shape});
+    }
+    Ray<T> zero = ray;
+    zero.direction = Vec3<T>(T(0), -T(0), T(0));
+    out.push_back({zero, shape});
+    std::vector<Shape> shapes;
+    shape_variants(shape, shapes);
+    for (const Shape& s : shapes) out.push_back({ray, s});
+    return out;
+}
+
+// Straight-line paths that check validity themselves (no flag from outside) decline
+// every invalid variant of valid cases, and the public answers are invalid.
+template <class T, class Shape, class Declines> void declines_invalid_input(Declines&& declines) {
     const std::uint64_t base = seed();
     int variants = 0;
-    for (const auto& g : gen::generators<T, Aabb<T>>()) {
+    for (const auto& g : gen::generators<T, Shape>()) {
         gen::Rng rng(base);
         for (int k = 0; k < cases() / 8; ++k) {
             const auto c = g.make(rng);
             if (!detail::valid(c.ray) || !detail::valid(c.shape)) continue;
-            std::vector<std::pair<Ray<T>, Aabb<T>>> bad;
-            for (int i = 0; i < 3; ++i) {
-                for (const T x : {nan, inf, -inf}) {
-                    Ray<T> r = c.ray;
-                    r.origin[i] = x;
-                    bad.push_back({r, c.shape});
-                    r = c.ray;
-                    r.direction[i] = x;
-                    bad.push_back({r, c.shape});
-                    Aabb<T> b = c.shape;
-                    b.lo[i] = x;
-                    bad.push_back({c.ray, b});
-                    b = c.shape;
-                    b.hi[i] = x;
-                    bad.push_back({c.ray, b});
-                }
-                if (c.shape.lo[i] < c.shape.hi[i]) {
-                    Aabb<T> b = c.shape;
-                    std::swap(b.lo[i], b.hi[i]);
-                    bad.push_back({c.ray, b});
-                }
-            }
-            for (const auto& [t_min, t_max] : {std::pair{nan, c.ray.t_max}, std::pair{c.ray.t_min, nan}, std::pair{inf, inf},
-                                               std::pair{-inf, -inf}, std::pair{T(2), T(1)}}) {
-                Ray<T> r = c.ray;
-                r.t_min = t_min;
-                r.t_max = t_max;
-                bad.push_back({r, c.shape});
-            }
-            Ray<T> zero = c.ray;
-            zero.direction = Vec3<T>(T(0), -T(0), T(0));
-            bad.push_back({zero, c.shape});
-            for (const auto& [r, b] : bad) {
-                if (detail::valid(r) && detail::valid(b)) continue;  // e.g. a NaN replacing a NaN-free value of a flat box
+            for (const auto& [r, s] : invalid_variants(c.ray, c.shape)) {
+                if (detail::valid(r) && detail::valid(s)) continue;  // a NaN-free replacement that is still valid
                 ++variants;
                 const std::string where = std::string(g.name) + " case " + std::to_string(k) + " (RAYPROOF_SEED=" +
                                           std::to_string(base) + ")";
-                ASSERT_FALSE(detail::aabb_certified_common(r, b).has_value()) << where << ": " << r << " vs " << b;
-                ASSERT_EQ(detail::aabb_verdict_common(r, b), detail::aabb_declined) << where << ": " << r << " vs " << b;
-                ASSERT_EQ(intersect(r, b, certified).verdict, Verdict::invalid) << where;
-                ASSERT_EQ(verdict(r, b, certified), Verdict::invalid) << where;
+                ASSERT_TRUE(declines(r, s)) << where << ": " << r << " vs " << s;
+                ASSERT_EQ(intersect(r, s, certified).verdict, Verdict::invalid) << where;
+                ASSERT_EQ(verdict(r, s, certified), Verdict::invalid) << where;
             }
         }
     }
     EXPECT_GT(variants, 1000);
+}
+
+TYPED_TEST(CertifiedExactStage, AabbVerdictPathAgreesWithGeneralPath) {
+    using T = TypeParam;
+    verdict_filter_agrees<T, Aabb<T>>(
+        [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_verdict_common(r, b); }, detail::aabb_declined,
+        [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_general(r, b); },
+        [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_common(r, b).has_value(); });
+}
+TYPED_TEST(CertifiedExactStage, PlaneVerdictFilterAgreesWithGeneralPath) {
+    using T = TypeParam;
+    verdict_filter_agrees<T, Plane<T>>(
+        [](const Ray<T>& r, const Plane<T>& p) { return detail::plane_verdict_common(r, p); }, detail::plane_declined,
+        [](const Ray<T>& r, const Plane<T>& p) { return detail::plane_certified_general(r, p); },
+        [](const Ray<T>&, const Plane<T>&) { return false; });
+}
+TYPED_TEST(CertifiedExactStage, AabbStraightLinePathsDeclineInvalidInput) {
+    using T = TypeParam;
+    declines_invalid_input<T, Aabb<T>>([](const Ray<T>& r, const Aabb<T>& b) {
+        return !detail::aabb_certified_common(r, b).has_value() && detail::aabb_verdict_common(r, b) == detail::aabb_declined;
+    });
+}
+TYPED_TEST(CertifiedExactStage, PlaneVerdictFilterDeclinesInvalidInput) {
+    using T = TypeParam;
+    declines_invalid_input<T, Plane<T>>(
+        [](const Ray<T>& r, const Plane<T>& p) { return detail::plane_verdict_common(r, p) == detail::plane_declined; });
 }
 
 TYPED_TEST(CertifiedExactStage, ObbStraightLinePathAgreesWithGeneralPath) {

@@ -45,11 +45,12 @@
 
 namespace rayproof::detail {
 
+// The caller's plane (which outlives the query) and its validity, decided once.
 template <class T> struct PreparedPlane {
-    Plane<T> plane;
+    const Plane<T>& plane;
     bool ok;
 };
-template <class T> PreparedPlane<T> prepare(const Plane<T>& p) { return {p, valid(p)}; }
+template <class T> RAYPROOF_ALWAYS_INLINE PreparedPlane<T> prepare(const Plane<T>& p) { return {p, valid(p)}; }
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
@@ -121,6 +122,62 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, co
     const int z = bits((s.bound == splat(0.0)) & (s.hi == splat(0.0))), nz = bits(abs(s.hi) > s.bound + s.bound);
     const bool zero = int(s.ok) & z & (nz >> 1), lying = int(s.ok) & int(z == 3), parallel = int(s.ok) & (z >> 1) & nz;
     return {x.c, x.pinned, q - pad, q + pad, rough, zero, lying, parallel};
+}
+
+// The certified verdict from a plain floating-point filter, before anything is pinned
+// (the verdict query answers from it alone; the full query takes its misses and goes on
+// to plane_pin for the rest). In double (exact for float inputs), N = offset - n·o in
+// lane 0 and D = n·d in lane 1 as ((s + p_0) + p_1) + p_2 with the products p_j =
+// fl(a_j b_j): each lane is at most 4 roundings from its sum, |N~ - N| <= gamma(4)·S_N
+// with S_N = |offset| + Σ|n_j o_j| (and S_D likewise), plus at most 3·2^-1075 from
+// products in the subnormal range. The bound e = fl(2·gamma(4)·S~) + eta, eta =
+// 2^-1022, covers that: S~ (the same sum of the |p_j|, rounded alike) is at least S(1 -
+// gamma(5)) - 2^-1073, so e >= gamma(4)·S·2(1 - gamma(5))(1 - u)^2 + eta/2 >= gamma(4)·S +
+// 3·2^-1075. With sigma = sign(D~), certain when |D~| > e_D, t = N/D lies in [t_min,
+// t_max] iff A = sigma·N - t_min·|D| >= 0 and C = t_max·|D| - sigma·N >= 0, in lanes 0
+// and 1. Their computed values X~ = fl(fl(±sigma·N~) ∓ fl(limit·|D~|)) are within
+// e_N + |limit|·e_D + u|limit·D~| + 2^-1075 + u(|N~| + |fl(limit·|D~|)|)·(1 + u) of A and
+// C (the errors of N~ and D~, then one rounding for the product and one for the
+// difference); every term doubled, E = fl(2(e_N + |limit|·e_D) + 8u(|N~| + |P~|) + 2eta)
+// with P~ = fl(limit·|D~|) bounds that with room for the five roundings of E itself
+// (each loses at most a factor 1 - u, and (1 - u)^5 > 1/2). So X~ >= E proves the
+// condition and X~ < -E disproves it; an infinite limit (t_min = -inf, t_max = +inf)
+// holds by itself. Validity comes with the verdict: e finite means every number but
+// t_min and t_max is finite (an infinite or NaN input makes S~ infinite or NaN), a
+// certain sign of D means n != 0 and d != 0, and valid_range checks the limits.
+// plane_declined (-1) when the filter cannot decide (D too close to 0, extreme exponents
+// that overflow S~, a crossing within the bounds of a limit), else int(Verdict::miss)
+// or int(Verdict::hit).
+inline constexpr int plane_declined = -1;
+template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>& r, const Plane<T>& p) {
+    using namespace lanes;
+    constexpr double u = 0x1p-53, K = 2 * gamma<double>(4), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
+    const double f = double(p.offset);
+    D2 sum = make(f, 0.0), mag = make(std::abs(f), 0.0);
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC unroll 3
+#elif defined(__clang__)
+#pragma clang loop unroll(full)
+#endif
+    for (int j = 0; j < 3; ++j) {
+        const double n = double(p.normal[j]);
+        const D2 prod = make(-n, n) * make(double(r.origin[j]), double(r.direction[j]));
+        sum = sum + prod;
+        mag = mag + abs(prod);
+    }
+    const D2 e = mag * splat(K) + splat(eta);
+    const double N = lane0(sum), D = lane1(sum), eN = lane0(e), eD = lane1(e);
+    // sigma·N and |D| (sigma = sign(D~): the sign bit of D moved onto N).
+    const double aD = std::abs(D), sN = D < 0 ? -N : N;
+    const D2 limit = make(double(r.t_min), double(r.t_max)), P = limit * splat(aD);
+    const D2 X = make(sN, lane1(P)) - make(lane0(P), sN);
+    const D2 E = (splat(eN) + abs(limit) * splat(eD)) * splat(2.0) + (splat(std::abs(N)) + abs(P)) * splat(8 * u) +
+                 splat(2 * eta);
+    const M2 holds = (X >= E) | (abs(limit) == splat(inf)), fails = X < -E;
+    const bool usable = int(aD > eD) & int(bits(e < splat(inf)) == 3) & int(valid_range(r));
+    const bool hit = bits(holds) == 3, miss = bits(fails) != 0;
+    static_assert(int(Verdict::miss) == 0 && int(Verdict::hit) == 1);
+    return usable && (hit || miss) ? int(hit) : plane_declined;
 }
 
 // The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures
@@ -272,9 +329,11 @@ template <class T, class X> Hit<T> plane_certified(const Ray<T>& r, const X& x) 
 // Every answer but the parallel ones also proves most of the validity rules (every
 // number but t_min and t_max finite, n and d nonzero: D != 0); the others come in as
 // rest_valid, and a parallel answer checks n != 0 and d != 0 itself.
+// A miss the verdict filter proves is answered at once (misses need no t).
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_certified_common(const Ray<T>& r, const Plane<T>& p,
                                                                     bool rest_valid = true) {
+    if (plane_verdict_common(r, p) == int(Verdict::miss)) return Hit<T>{};
     const PlanePin x = plane_pin(r, p);
     const double lo = double(r.t_min), hi = double(r.t_max);
     const bool crossing = int(x.pinned) & int(x.c > lo) & int(x.c < hi);
@@ -304,14 +363,34 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_certified_general(c
     return plane_certified(r, PlaneCrossing<T>(r, p));
 }
 
+// What the straight-line path declines: validated in full, then the general path.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_certified_declined(const Ray<T>& r, const Plane<T>& p) {
+    return !valid(p) || !valid(r) ? invalid_hit<T>() : plane_certified_general(r, p);
+}
+
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
     // The straight-line path answers only where its pinned crossing has proven the plane
     // and the ray valid apart from t_min and t_max (see plane_certified_common), so it
     // takes those as a flag; anything it declines is validated in full first.
     const bool rest_valid = valid_range(r);
-    return common_or_general(plane_certified_common(r, p.plane, rest_valid), [&] {
-        return !p.ok || !valid(r) ? invalid_hit<T>() : plane_certified_general(r, p.plane);
-    });
+    return common_or_general(plane_certified_common(r, p.plane, rest_valid),
+                             [&] { return plane_certified_declined(r, p.plane); });
+}
+
+// What the verdict filter declines: the full query's verdict, out of line.
+template <class T> [[gnu::noinline, gnu::cold]] Verdict plane_verdict_declined(const Ray<T>& r, const Plane<T>& p) {
+    return query(r, prepare(p), certified).verdict;
+}
+
+// The certified verdict alone: the filter's verdict (which proves the input valid),
+// else the full query's. The prepared flag is not consulted on the filter's path.
+template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
+    const int v = plane_verdict_common(r, p.plane);
+    if (v != plane_declined) [[likely]] {
+        RAYPROOF_COUNT_QUERY();
+        return Verdict(v);
+    }
+    return plane_verdict_declined(r, p.plane);
 }
 
 }  // namespace rayproof::detail
