@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <limits>
 #include <mutex>
+#include <type_traits>
 #include <thread>
 
 namespace rayproof::render {
@@ -88,6 +89,26 @@ private:
         const Hitd h = std::visit([&](const auto& sh) { return rayproof::intersect(r, sh, M{}); }, shape);
         if (h.verdict == Verdict::invalid) ++st_.invalid;
         return h;
+    }
+
+    // Whether a shadow segment meets the object (a segment lying in a plane does not: it
+    // is not seen, as in closest()). Solids need the verdict alone; a plane needs the
+    // full answer to tell lying from crossing.
+    bool blocks(const Rayd& r, const Shape& shape) {
+        ++st_.kernel_queries;
+        return std::visit(
+            [&](const auto& sh) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(sh)>, Plane<double>>) {
+                    const Hitd h = rayproof::intersect(r, sh, M{});
+                    if (h.verdict == Verdict::invalid) ++st_.invalid;
+                    return bool(h) && !lies_in_plane(r, h);
+                } else {
+                    const Verdict v = rayproof::verdict(r, sh, M{});
+                    if (v == Verdict::invalid) ++st_.invalid;
+                    return v == Verdict::hit;
+                }
+            },
+            shape);
     }
 
     // A plane hit that covers the whole range is the ray lying in the plane: not seen.
@@ -295,8 +316,7 @@ private:
         }
         double pass = 1;
         for (const Object& obj : s_.objects) {
-            const Hitd h = query(r, obj.shape);
-            if (!h || (is_plane(obj.shape) && lies_in_plane(r, h))) continue;
+            if (!blocks(r, obj.shape)) continue;
             pass *= s_.materials[std::size_t(obj.material)].transparency;
             if (pass <= 0) {
                 ++st_.shadowed;

@@ -1,7 +1,9 @@
 // rayproof/render/tracer.hpp — a Whitted-style recursive ray tracer on top of the kernel.
 //
-// Every ray query (primary, shadow, reflected, refracted) is a rayproof::intersect call
-// in the scene's mode. Lighting per RGB channel:
+// Every ray query is a kernel call in the scene's mode: rayproof::intersect for primary,
+// reflected and refracted rays, rayproof::verdict (the yes/no query) for shadow rays
+// against solids, which need no t (against a plane the full answer, to tell a segment
+// lying in the plane from one crossing it). Lighting per RGB channel:
 //   I_local = I_a·K_a + Σ_lights S·f_att·I_l·(K_d·(N·L) + K_s·(R·V)^n)   [or K_s·(N·H)^n, Blinn]
 //   f_att   = min(1 / (c1 + c2·d + c3·d²), 1)
 //   S       = 0 if an opaque object blocks the segment to the light, else the product of
