@@ -8,6 +8,9 @@
 //   paired/<shape>/<float|double>/uniform/certified_over_fast
 //                                                       the ratio certified / fast measured
 //                                                       in pairs (counter "ratio")
+//   paired/<shape>/<float|double>/uniform/epeck_over_certified_verdict
+//                                                       CGAL Epeck's do_intersect over the
+//                                                       certified verdict query, in pairs
 // Methods: the kernel's modes fast, conservative, certified, and certified_verdict (the
 // verdict query alone, rayproof::verdict in certified mode); the baselines textbook,
 // branchless (boxes), cgal_epeck, cgal_rational (Aabb, Plane, Sphere), embree and
@@ -118,26 +121,22 @@ void time_scalar(benchmark::State& st, const std::string& key, const std::string
 #define RAYPROOF_BENCH_INLINE
 #endif
 
-// certified / fast measured in pairs: each iteration times one pass of fast and then one
-// pass of certified over the same uniform cases, back to back, and keeps the ratio of
-// the two; the counter "ratio" is the median over the iterations. On a machine whose
-// speed changes between repetitions (a shared host, frequency steps) two independent
-// medians can each land in a different state; a pass takes well under a millisecond,
-// so both halves of a pair see the same one. The benchmark's own time is that of both
-// passes and is not reported.
-template <class T, class Shape> void time_paired(benchmark::State& st) {
+// One method's time over another's, measured in pairs: each iteration times one pass of
+// `a` and then one pass of `b` over the same first n uniform cases, back to back, and
+// keeps the ratio b / a; the counter "ratio" is the median over the iterations. On a
+// machine whose speed changes between repetitions (a shared host, frequency steps) two
+// independent medians can each land in a different state; both halves of a pair see
+// the same one. The benchmark's own time is that of both passes and is not reported.
+// a_key and b_key name the scalar benchmarks whose check passes (run once per key)
+// must have passed.
+template <class T, class Shape, class A, class B>
+void time_pair(benchmark::State& st, std::size_t n, const std::string& a_key, A a, const std::string& b_key, B b) {
     const auto& all = timed_cases<T, Shape>("uniform");
-    const std::size_t n = std::min(options().cases, all.size());
-    auto fast_query = [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::fast); };
-    auto certified_query = [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE {
-        return intersect(r, s, rayproof::certified);
+    n = std::min(n, all.size());
+    const auto checked = [&](const std::string& key, auto query) {
+        return passes_watchdog(st, key, n, [&](std::size_t i) { benchmark::DoNotOptimize(query(all[i].ray, all[i].shape)); });
     };
-    // The scalar benchmarks' check passes (the same keys: each runs once).
-    const auto checked = [&](const char* mode, auto query) {
-        return passes_watchdog(st, bench_name<T, Shape>("scalar", "uniform", mode), n,
-                               [&](std::size_t i) { benchmark::DoNotOptimize(query(all[i].ray, all[i].shape)); });
-    };
-    if (!checked("fast", fast_query) || !checked("certified", certified_query)) return;
+    if (!checked(a_key, a) || !checked(b_key, b)) return;
     std::vector<Hit<T>> out(n);
     auto pass = [&](auto query) {
         const auto start = std::chrono::steady_clock::now();
@@ -148,13 +147,29 @@ template <class T, class Shape> void time_paired(benchmark::State& st) {
     };
     std::vector<double> ratios;
     for (auto _ : st) {
-        const double f = pass(fast_query);
-        const double c = pass(certified_query);
-        ratios.push_back(c / f);
+        const double ta = pass(a);
+        const double tb = pass(b);
+        ratios.push_back(tb / ta);
     }
     std::nth_element(ratios.begin(), ratios.begin() + std::ptrdiff_t(ratios.size() / 2), ratios.end());
     st.counters["ratio"] = ratios.empty() ? 0.0 : ratios[ratios.size() / 2];
     st.counters["cases"] = double(n);
+}
+
+// The verdict query timed as the CGAL baselines are: the verdict stored in a Hit.
+template <class T, class Shape> RAYPROOF_BENCH_INLINE inline Hit<T> certified_verdict_hit(const Ray<T>& r, const Shape& s) {
+    Hit<T> h;
+    h.verdict = verdict(r, s, rayproof::certified);
+    return h;
+}
+
+// certified / fast in pairs (a pass takes well under a millisecond).
+template <class T, class Shape> void time_paired(benchmark::State& st) {
+    time_pair<T, Shape>(
+        st, options().cases, bench_name<T, Shape>("scalar", "uniform", "fast"),
+        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::fast); },
+        bench_name<T, Shape>("scalar", "uniform", "certified"),
+        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::certified); });
 }
 
 // Registers the kernel's three modes and the plain baselines for one shape and type.
@@ -172,9 +187,7 @@ template <class T, class Shape> void register_scalar_kernel(std::string_view wor
     // The verdict alone (rayproof::verdict), stored as the CGAL baselines store theirs:
     // the question do_intersect answers, on the same cases.
     reg("certified_verdict", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE {
-        Hit<T> h;
-        h.verdict = verdict(r, s, rayproof::certified);
-        return h;
+        return certified_verdict_hit<T>(r, s);
     });
     reg("textbook", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return baseline::textbook(r, s); });
     if constexpr (baseline::has_branchless<Shape>)

@@ -26,7 +26,21 @@ template <class T, class Shape> void register_one(std::string_view workload_name
     });
 }
 
+// Epeck over the certified verdict query in pairs, on the cases both are timed on.
+template <class T, class Shape> void register_paired() {
+    benchmark::RegisterBenchmark(
+        bench_name<T, Shape>("paired", "uniform", "epeck_over_certified_verdict").c_str(), [](benchmark::State& st) {
+            time_pair<T, Shape>(
+                st, options().cgal_cases, bench_name<T, Shape>("scalar", "uniform", "certified_verdict"),
+                [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return certified_verdict_hit<T>(r, s); },
+                bench_name<T, Shape>("scalar", "uniform", "cgal_epeck"),
+                [](const Ray<T>& r, const Shape& s) { return verdict_only<T>(cgal::epeck(r, s)); });
+        });
+}
+
 template <template <class> class S> void register_shape_cgal() {
+    register_paired<double, S<double>>();
+    register_paired<float, S<float>>();
     for (const std::string_view w : kWorkloads) {
         if (!has_workload<S<float>>(w)) continue;
         register_one<double, S<double>>(w);
