@@ -31,7 +31,9 @@
 //            position of t against t_min/t_max sign(num - t_min·den)·sign(den) degree
 //            3; t is rounded by plane_pin first (so the two paths answer alike bit for
 //            bit), next from the interval when it lies strictly between the neighbours
-//            of its midpoint, else exactly.
+//            of its midpoint, else exactly. Before all this a plain floating-point
+//            filter with derived bounds (plane_verdict_common) decides the verdict where
+//            it can: verdict() answers from it alone, the full query takes its misses.
 #pragma once
 
 #include <rayproof/detail/compensated.hpp>

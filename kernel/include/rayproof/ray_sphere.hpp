@@ -44,7 +44,9 @@
 //            from the centre, or by q > 0 with the slope pointing away at an end of the
 //            range. It answers for input magnitudes in [2^-300, 2^300] (or 0) and gives
 //            the general path's answer bit for bit; everything it cannot prove goes to
-//            the general path (sphere_certified).
+//            the general path (sphere_certified). The verdict alone (verdict() in
+//            intersect.hpp) comes from the same path's certificates without any root
+//            (sphere_verdict_common), else from the full query.
 #pragma once
 
 #include <rayproof/detail/compensated.hpp>
@@ -61,11 +63,12 @@
 
 namespace rayproof::detail {
 
+// The caller's sphere (which outlives the query) and its validity, decided once.
 template <class T> struct PreparedSphere {
-    Sphere<T> sphere;
+    const Sphere<T>& sphere;
     bool ok;
 };
-template <class T> PreparedSphere<T> prepare(const Sphere<T>& s) { return {s, valid(s)}; }
+template <class T> RAYPROOF_ALWAYS_INLINE PreparedSphere<T> prepare(const Sphere<T>& s) { return {s, valid(s)}; }
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
@@ -505,26 +508,38 @@ RAYPROOF_ALWAYS_INLINE SphereCheapSigns sphere_cheap_signs(const double (&dl)[3]
 // root (at most 3·2^-1075 inside, 2^-535 outside). Valid while every nonzero input
 // magnitude (o, c, d, r) lies in [2^-300, 2^300]: then a, b, f and every product stay
 // far from overflow and only the squares of m~ and the tiny products can underflow.
-template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified_common(const Ray<T>& r,
-                                                                                          const Sphere<T>& s) {
-    constexpr double g11 = 2 * gamma<double>(11), lo_mag = 0x1p-300, hi_mag = 0x1p300;
-    const double rad = double(s.radius);
+// The line o + t·d against the centre, in double, shared by the straight-line path
+// and the verdict filter below: Δ~, a~, b~, n (the estimate of the line's distance from
+// the centre) and the threshold of the distance certificate, which also proves the
+// other direction: l <= |Δ - f d| (Δ - f d is a point of the line) <= n(1 + gamma(3)) +
+// gamma(2)·Σ(|Δ~_j| + |P_j|) <= n + K, so fl(r - n) > threshold proves l < r.
+struct SphereLine {
     double d[3], dl[3];
+    double rad, a, b, n, cc;
+    double threshold;  // 2·fl(gamma(11)·(n + Σ|Δ~_j| + Σ|P_j|)) + 2^-500
+    bool in_range;     // every nonzero input magnitude in [2^-300, 2^300]
+};
+template <class T> RAYPROOF_ALWAYS_INLINE SphereLine sphere_line(const Ray<T>& r, const Sphere<T>& s) {
+    constexpr double g11 = 2 * gamma<double>(11), lo_mag = 0x1p-300, hi_mag = 0x1p300;
+    SphereLine L;
+    L.rad = double(s.radius);
     // The largest input magnitude, and the smallest nonzero one (1 when all are 0).
     auto nonzero_abs = [](double v) { return v == 0 ? 1.0 : std::abs(v); };
-    double largest = std::abs(rad), smallest = nonzero_abs(rad);
+    double largest = std::abs(L.rad), smallest = nonzero_abs(L.rad);
     for (int j = 0; j < 3; ++j) {
         const double o = double(r.origin[j]), c = double(s.center[j]);
-        d[j] = double(r.direction[j]);
-        dl[j] = o - c;
-        largest = std::max(largest, std::max(std::max(std::abs(o), std::abs(c)), std::abs(d[j])));
-        smallest = std::min(smallest, std::min(std::min(nonzero_abs(o), nonzero_abs(c)), nonzero_abs(d[j])));
+        L.d[j] = double(r.direction[j]);
+        L.dl[j] = o - c;
+        largest = std::max(largest, std::max(std::max(std::abs(o), std::abs(c)), std::abs(L.d[j])));
+        smallest = std::min(smallest, std::min(std::min(nonzero_abs(o), nonzero_abs(c)), nonzero_abs(L.d[j])));
     }
-    if (!(largest <= hi_mag && smallest >= lo_mag)) return std::nullopt;
-    const double a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    const double b = d[0] * dl[0] + d[1] * dl[1] + d[2] * dl[2];
-    const double f = b / a;
-    double n2 = 0, sum_dl = 0, sum_p = 0, cc = -rad * rad;
+    L.in_range = largest <= hi_mag && smallest >= lo_mag;
+    const double(&d)[3] = L.d;
+    const double(&dl)[3] = L.dl;
+    L.a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    L.b = d[0] * dl[0] + d[1] * dl[1] + d[2] * dl[2];
+    const double f = L.b / L.a;
+    double n2 = 0, sum_dl = 0, sum_p = 0, cc = -L.rad * L.rad;
     for (int j = 0; j < 3; ++j) {
         const double p = f * d[j], m = dl[j] - p;
         n2 += m * m;
@@ -532,10 +547,22 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified
         sum_p += std::abs(p);
         cc += dl[j] * dl[j];
     }
-    const double n = std::sqrt(n2);
+    L.cc = cc;
+    L.n = std::sqrt(n2);
+    L.threshold = g11 * (L.n + sum_dl + sum_p) + 0x1p-500;
+    return L;
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified_common(const Ray<T>& r,
+                                                                                          const Sphere<T>& s) {
+    const SphereLine L = sphere_line(r, s);
+    if (!L.in_range) return std::nullopt;
+    const double(&d)[3] = L.d;
+    const double(&dl)[3] = L.dl;
+    const double rad = L.rad, a = L.a, b = L.b, n = L.n, cc = L.cc;
     Hit<T> h;
     if (!(n <= rad)) {  // the estimate says the line misses: prove it, or hand over
-        if (n - rad > g11 * (n + sum_dl + sum_p) + 0x1p-500) return h;
+        if (n - rad > L.threshold) return h;
         return std::nullopt;
     }
     // The roots as the fast mode estimates them: q = -(b + sign(b)·sqrt(disc)), t = q/a, c'/q.
@@ -634,6 +661,44 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_certified_general(
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
     return common_or_general(sphere_certified_common(r, p.sphere), [&] { return sphere_certified_general(r, p.sphere); });
+}
+
+// The certified verdict alone, for valid input, from the straight-line path's own
+// certificates and nothing more (no root is estimated, refined or rounded): the line's
+// distance from the centre proven above r (a miss) or below it; the sign of q and of
+// its slope at each end of the range (sphere_cheap_signs; at an infinite end q is +inf
+// and the slope points outwards). q convex gives: an end with q < 0 is inside (a hit);
+// an end with q > 0 and the slope pointing away from the range (up at t_min, down at
+// t_max) means q > 0 on the whole range (a miss); the slope down at t_min and up at t_max
+// puts the vertex t* = -b/a inside the range, where q(t*) = l² - r² has the sign of l -
+// r (a hit when l < r is proven). sphere_declined (-1) for the rest.
+inline constexpr int sphere_declined = -1;
+template <class T> RAYPROOF_ALWAYS_INLINE int sphere_verdict_common(const Ray<T>& r, const Sphere<T>& s) {
+    const SphereLine L = sphere_line(r, s);
+    if (!L.in_range) return sphere_declined;
+    if (L.n - L.rad > L.threshold) return int(Verdict::miss);
+    const bool min_inf = std::isinf(r.t_min), max_inf = std::isinf(r.t_max);
+    const SphereCheapSigns at_min = min_inf ? SphereCheapSigns{1, -1} : sphere_cheap_signs(L.dl, L.d, L.rad, double(r.t_min));
+    const SphereCheapSigns at_max = max_inf ? SphereCheapSigns{1, 1} : sphere_cheap_signs(L.dl, L.d, L.rad, double(r.t_max));
+    if (at_min.q == -1 || at_max.q == -1) return int(Verdict::hit);
+    if ((at_min.q == 1 && at_min.slope == 1) || (at_max.q == 1 && at_max.slope == -1)) return int(Verdict::miss);
+    if (at_min.slope == -1 && at_max.slope == 1 && L.rad - L.n > L.threshold) return int(Verdict::hit);
+    return sphere_declined;
+}
+
+// What the verdict filter declines: the full query's verdict, out of line.
+template <class T> [[gnu::noinline, gnu::cold]] Verdict sphere_verdict_declined(const Ray<T>& r, const Sphere<T>& s) {
+    return query(r, prepare(s), certified).verdict;
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
+    if (!p.ok || !valid(r)) return Verdict::invalid;
+    const int v = sphere_verdict_common(r, p.sphere);
+    if (v != sphere_declined) [[likely]] {
+        RAYPROOF_COUNT_QUERY();
+        return Verdict(v);
+    }
+    return sphere_verdict_declined(r, p.sphere);
 }
 
 }  // namespace rayproof::detail
