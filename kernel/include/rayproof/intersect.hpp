@@ -51,9 +51,10 @@ RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const Prepared& p,
 // The verdict alone: verdict(ray, shape, mode) == intersect(ray, shape, mode).verdict
 // for every input, in every mode (a certified verdict is the exact one). It asks the
 // question CGAL's do_intersect answers, and where a shape has a verdict path of its own
-// (the certified Aabb) it skips what only the full answer needs: the winning slabs, the
-// face and the rounding of t. That path decides with the full query's own bounds and
-// hands what they cannot decide to the same general path, so the two cannot disagree.
+// (the certified Aabb, plane and sphere) it skips what only the full answer needs: the
+// winning slabs, the face, the roots and the rounding of t. Each such path answers only
+// what its proven bounds decide (the Aabb's on the full query's own lanes) and hands the
+// rest to the full query's stages, so the two cannot disagree.
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mode mode) {
