@@ -195,11 +195,14 @@ void judge_into(Stats& s, const gen::Case<T, Shape>& c, const oracle::Exact<T>& 
     s.max_ulps = std::max(s.max_ulps, j.max_ulps());
     const bool bad_coherence = incoherent(h);
     if (bad_coherence) ++s.incoherent;
-    const bool v = violates(id, j);
+    // verdict() promises the full answer's verdict in every mode.
+    const Verdict alone = verdict(c.ray, c.shape, mode);
+    const bool v = violates(id, j) || alone != h.verdict;
     if (v) ++s.violations;
     if (s.examples.size() < max_examples && (j.verdict_wrong() || v || bad_coherence)) {
         std::ostringstream os;
         os << "seed 0x" << std::hex << seed << std::dec << ": " << c << "\n    " << mode_label(id) << ": " << h
+           << (alone != h.verdict ? " (verdict() alone: " + std::string(to_string(alone)) + ")" : std::string())
            << "\n    " << e << "\n    " << j;
         s.examples.push_back(os.str());
     }
@@ -383,7 +386,7 @@ int main(int argc, char** argv) {
                      "a hit with a NaN t). *Contract violations*: fast, an invalid input not answered invalid (or "
                      "the reverse); conservative, a false miss, an invalid mismatch or an interval not enclosing "
                      "the exact one; certified, any answer other than the exact verdict and face with faithful "
-                     "t.\n";
+                     "t; every mode, verdict() (the verdict alone) differing from the full answer's verdict.\n";
         std::uint64_t incoherent = 0;
         for (const Row* r : rows) incoherent += r->stats.incoherent;
         if (incoherent)
