@@ -257,14 +257,16 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     // o - hi) is (t_lo, -t_hi)·d exactly as rounded, rounding to nearest being
     // symmetric), and (entry, -exit) = min(x, -swap(x)). Axes 0 and 1 are computed side
     // by side, (t_lo0, t_lo1) and (-t_hi0, -t_hi1), and regrouped per axis (the same
-    // operations on the same operands as axis 2). probe sums x - x, which is 0 exactly
-    // when every value is finite (NaN otherwise).
+    // operations on the same operands as axis 2). probe = s - s for s the sum of all six
+    // values (two per lane): 0 when s is finite, NaN when a value is infinite or NaN (or
+    // when finite values overflow the sum, which only sends a valid query to the general
+    // path), so probe == 0 implies every value finite.
     const D2 o01 = load2(r.origin.data()), lo01 = load2(b.lo.data()), hi01 = load2(b.hi.data());
     const D2 t_lo01 = (lo01 - o01) * L.inv01, t_hi01 = (o01 - hi01) * L.inv01;
     const double o2 = double(r.origin[2]);
     const D2 p2 = make(double(b.lo[2]), o2), q2 = make(o2, double(b.hi[2]));
     const D2 x0 = lows(t_lo01, t_hi01), x1 = highs(t_lo01, t_hi01), x2 = (p2 - q2) * L.inv22;
-    const D2 probe = ((t_lo01 - t_lo01) + (t_hi01 - t_hi01)) + (x2 - x2);
+    const D2 sum = (t_lo01 + t_hi01) + x2, probe = sum - sum;
     L.V[0] = min(x0, -swap(x0));
     L.V[1] = min(x1, -swap(x1));
     L.V[2] = min(x2, -swap(x2));
