@@ -181,7 +181,7 @@ TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {
 // and whatever full_answers says the full query's straight-line path answers, it
 // answers too (for the Aabb, whose filter needs a subset of the full path's conditions).
 template <class T, class Shape, class Filter, class General, class FullAnswers>
-void verdict_filter_agrees(Filter&& filter, int declined, General&& general_path, FullAnswers&& full_answers) {
+void verdict_filter_agrees(Filter&& filter, General&& general_path, FullAnswers&& full_answers) {
     const std::uint64_t base = seed();
     for (const auto& g : gen::generators<T, Shape>()) {
         const std::string_view name = g.name;
@@ -195,9 +195,9 @@ void verdict_filter_agrees(Filter&& filter, int declined, General&& general_path
             const std::string where = "generator " + std::string(name) + " case " + std::to_string(k) +
                                       " (RAYPROOF_SEED=" + std::to_string(base) + ")";
             if (full_answers(c.ray, c.shape)) {
-                ASSERT_NE(v, declined) << where << ": the full path answered, the verdict path declined";
+                ASSERT_NE(v, detail::verdict_declined) << where << ": the full path answered, the verdict path declined";
             }
-            if (v == declined) continue;
+            if (v == detail::verdict_declined) continue;
             ++answered;
             ASSERT_EQ(Verdict(v), general_path(c.ray, c.shape).verdict) << where << ": " << c.ray << " vs " << c.shape;
         }
@@ -318,21 +318,21 @@ template <class T, class Shape, class Declines> void declines_invalid_input(Decl
 TYPED_TEST(CertifiedExactStage, AabbVerdictPathAgreesWithGeneralPath) {
     using T = TypeParam;
     verdict_filter_agrees<T, Aabb<T>>(
-        [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_verdict_common(r, b); }, detail::aabb_declined,
+        [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_verdict_common(r, b); },
         [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_general(r, b); },
         [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_common(r, b).has_value(); });
 }
 TYPED_TEST(CertifiedExactStage, PlaneVerdictFilterAgreesWithGeneralPath) {
     using T = TypeParam;
     verdict_filter_agrees<T, Plane<T>>(
-        [](const Ray<T>& r, const Plane<T>& p) { return detail::plane_verdict_common(r, p); }, detail::plane_declined,
+        [](const Ray<T>& r, const Plane<T>& p) { return detail::plane_verdict_common(r, p); },
         [](const Ray<T>& r, const Plane<T>& p) { return detail::plane_certified_general(r, p); },
         [](const Ray<T>&, const Plane<T>&) { return false; });
 }
 TYPED_TEST(CertifiedExactStage, SphereVerdictFilterAgreesWithGeneralPath) {
     using T = TypeParam;
     verdict_filter_agrees<T, Sphere<T>>(
-        [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_verdict_common(r, s); }, detail::sphere_declined,
+        [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_verdict_common(r, s); },
         [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_certified_general(r, s); },
         [](const Ray<T>&, const Sphere<T>&) { return false; });
 }
@@ -343,13 +343,13 @@ TYPED_TEST(CertifiedExactStage, SphereVerdictOfInvalidInputIsInvalid) {
 TYPED_TEST(CertifiedExactStage, AabbStraightLinePathsDeclineInvalidInput) {
     using T = TypeParam;
     declines_invalid_input<T, Aabb<T>>([](const Ray<T>& r, const Aabb<T>& b) {
-        return !detail::aabb_certified_common(r, b).has_value() && detail::aabb_verdict_common(r, b) == detail::aabb_declined;
+        return !detail::aabb_certified_common(r, b).has_value() && detail::aabb_verdict_common(r, b) == detail::verdict_declined;
     });
 }
 TYPED_TEST(CertifiedExactStage, PlaneVerdictFilterDeclinesInvalidInput) {
     using T = TypeParam;
     declines_invalid_input<T, Plane<T>>(
-        [](const Ray<T>& r, const Plane<T>& p) { return detail::plane_verdict_common(r, p) == detail::plane_declined; });
+        [](const Ray<T>& r, const Plane<T>& p) { return detail::plane_verdict_common(r, p) == detail::verdict_declined; });
 }
 
 TYPED_TEST(CertifiedExactStage, ObbStraightLinePathAgreesWithGeneralPath) {

@@ -300,15 +300,12 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
 // The certified verdict alone (verdict() in intersect.hpp) from the same lanes: a hit
 // is certain when the latest entry's upper bound lies below the earliest exit's lower
 // bound, a miss when the latest entry's lower bound lies above the earliest exit's
-// upper bound; no winner is needed, and nothing is rounded. int(Verdict::miss) or
-// int(Verdict::hit), or aabb_declined (the general path decides), as an int rather
-// than an optional: an optional's flag goes through memory here, on every query.
-inline constexpr int aabb_declined = -1;
+// upper bound; no winner is needed, and nothing is rounded. verdict_declined when the
+// general path must decide (see verdict_or, detail/slab_certified.hpp).
 template <class T> RAYPROOF_ALWAYS_INLINE int aabb_verdict_common(const Ray<T>& r, const Aabb<T>& b) {
     using namespace lanes;
     const AabbLanes L = aabb_lanes(r, b);
-    static_assert(int(Verdict::miss) == 0 && int(Verdict::hit) == 1);
-    return bits(L.usable & (L.miss | L.hit)) == 3 ? int(bits(L.hit) == 3) : aabb_declined;
+    return bits(L.usable & (L.miss | L.hit)) == 3 ? int(bits(L.hit) == 3) : verdict_declined;
 }
 
 // The full query: the verdict above, then the winners' identity and their faithful
@@ -397,12 +394,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
 
 // The certified verdict alone: the same lanes and the same fallback as the full query.
 template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
-    const int v = aabb_verdict_common(r, p.box);
-    if (v != aabb_declined) [[likely]] {
-        RAYPROOF_COUNT_QUERY();
-        return Verdict(v);
-    }
-    return aabb_certified_declined(r, p.box).verdict;
+    return verdict_or(aabb_verdict_common(r, p.box), [&] { return aabb_certified_declined(r, p.box).verdict; });
 }
 
 }  // namespace rayproof::detail

@@ -147,10 +147,9 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, co
 // holds by itself. Validity comes with the verdict: e finite means every number but
 // t_min and t_max is finite (an infinite or NaN input makes S~ infinite or NaN), a
 // certain sign of D means n != 0 and d != 0, and valid_range checks the limits.
-// plane_declined (-1) when the filter cannot decide (D too close to 0, extreme exponents
+// verdict_declined when the filter cannot decide (D too close to 0, extreme exponents
 // that overflow S~, a crossing within the bounds of a limit), else int(Verdict::miss)
 // or int(Verdict::hit).
-inline constexpr int plane_declined = -1;
 template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>& r, const Plane<T>& p) {
     using namespace lanes;
     constexpr double u = 0x1p-53, K = 2 * gamma<double>(4), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
@@ -178,8 +177,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>&
     const M2 holds = (X >= E) | (abs(limit) == splat(inf)), fails = X < -E;
     const bool usable = int(aD > eD) & int(bits(e < splat(inf)) == 3) & int(valid_range(r));
     const bool hit = bits(holds) == 3, miss = bits(fails) != 0;
-    static_assert(int(Verdict::miss) == 0 && int(Verdict::hit) == 1);
-    return usable && (hit || miss) ? int(hit) : plane_declined;
+    return usable && (hit || miss) ? int(hit) : verdict_declined;
 }
 
 // The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures
@@ -387,12 +385,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Verdict plane_verdict_declined(c
 // The certified verdict alone: the filter's verdict (which proves the input valid),
 // else the full query's. The prepared flag is not consulted on the filter's path.
 template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
-    const int v = plane_verdict_common(r, p.plane);
-    if (v != plane_declined) [[likely]] {
-        RAYPROOF_COUNT_QUERY();
-        return Verdict(v);
-    }
-    return plane_verdict_declined(r, p.plane);
+    return verdict_or(plane_verdict_common(r, p.plane), [&] { return plane_verdict_declined(r, p.plane); });
 }
 
 }  // namespace rayproof::detail

@@ -671,11 +671,10 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
 // an end with q > 0 and the slope pointing away from the range (up at t_min, down at
 // t_max) means q > 0 on the whole range (a miss); the slope down at t_min and up at t_max
 // puts the vertex t* = -b/a inside the range, where q(t*) = l² - r² has the sign of l -
-// r (a hit when l < r is proven). sphere_declined (-1) for the rest.
-inline constexpr int sphere_declined = -1;
+// r (a hit when l < r is proven). verdict_declined for the rest.
 template <class T> RAYPROOF_ALWAYS_INLINE int sphere_verdict_common(const Ray<T>& r, const Sphere<T>& s) {
     const SphereLine L = sphere_line(r, s);
-    if (!L.in_range) return sphere_declined;
+    if (!L.in_range) return verdict_declined;
     if (L.n - L.rad > L.threshold) return int(Verdict::miss);
     const bool min_inf = std::isinf(r.t_min), max_inf = std::isinf(r.t_max);
     const SphereCheapSigns at_min = min_inf ? SphereCheapSigns{1, -1} : sphere_cheap_signs(L.dl, L.d, L.rad, double(r.t_min));
@@ -683,7 +682,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE int sphere_verdict_common(const Ray<T>
     if (at_min.q == -1 || at_max.q == -1) return int(Verdict::hit);
     if ((at_min.q == 1 && at_min.slope == 1) || (at_max.q == 1 && at_max.slope == -1)) return int(Verdict::miss);
     if (at_min.slope == -1 && at_max.slope == 1 && L.rad - L.n > L.threshold) return int(Verdict::hit);
-    return sphere_declined;
+    return verdict_declined;
 }
 
 // What the verdict filter declines: the full query's verdict, out of line.
@@ -693,12 +692,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Verdict sphere_verdict_declined(
 
 template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
     if (!p.ok || !valid(r)) return Verdict::invalid;
-    const int v = sphere_verdict_common(r, p.sphere);
-    if (v != sphere_declined) [[likely]] {
-        RAYPROOF_COUNT_QUERY();
-        return Verdict(v);
-    }
-    return sphere_verdict_declined(r, p.sphere);
+    return verdict_or(sphere_verdict_common(r, p.sphere), [&] { return sphere_verdict_declined(r, p.sphere); });
 }
 
 }  // namespace rayproof::detail

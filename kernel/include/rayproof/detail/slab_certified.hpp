@@ -84,6 +84,21 @@ RAYPROOF_ALWAYS_INLINE Hit<T> common_or_general(const std::optional<Hit<T>>& com
     return out;
 }
 
+// The verdict filters' answer (ray_aabb.hpp, ray_plane.hpp, ray_sphere.hpp): int(Verdict::
+// miss) or int(Verdict::hit), or verdict_declined when the filter cannot decide; an int
+// rather than an optional, whose flag would go through memory on every query.
+inline constexpr int verdict_declined = -1;
+static_assert(int(Verdict::miss) == 0 && int(Verdict::hit) == 1);
+
+// The certified verdict from a filter's answer when it decided, else from `declined()`.
+template <class Declined> RAYPROOF_ALWAYS_INLINE Verdict verdict_or(int filtered, Declined&& declined) {
+    if (filtered != verdict_declined) [[likely]] {
+        RAYPROOF_COUNT_QUERY();
+        return Verdict(filtered);
+    }
+    return declined();
+}
+
 // Exact sign of value(a) - value(b), each either a slab quotient or a finite constant.
 struct SlabRef {
     int axis;  // -1: the constant c
