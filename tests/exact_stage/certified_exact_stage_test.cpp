@@ -130,13 +130,12 @@ template <class T, class Shape> void run_shape() {
     EXPECT_GT(checked, 0);
 }
 
-// A straight-line path (aabb_, plane_, sphere_certified_common) against the
-// general path on every generator: wherever the straight-line path answers, the two
-// answers are identical bit for bit (verdict, face, t_enter, t_exit). On
-// general-position input it must answer nearly always: a straight-line path that
-// declined everything would leave every other test green and the certified mode slow.
-template <class T, class Shape, class Common, class General>
-void common_agrees_with_general(Common&& common_path, General&& general_path) {
+// Runs check(case, where, answered) on 4·cases() valid cases of every generator (where
+// names the case and its seed); check sets answered when the path under test answered,
+// and may ASSERT (the run stops at a fatal failure). On general-position input the path
+// must answer nearly always: a path that declined everything would leave every other
+// test green and the certified mode slow.
+template <class T, class Shape, class Check> void on_valid_cases(const char* path, Check&& check) {
     const std::uint64_t base = seed();
     for (const auto& g : gen::generators<T, Shape>()) {
         const std::string_view name = g.name;
@@ -146,19 +145,34 @@ void common_agrees_with_general(Common&& common_path, General&& general_path) {
         for (int k = 0; k < n; ++k) {
             const auto c = g.make(rng);
             if (!detail::valid(c.ray) || !detail::valid(c.shape)) continue;
-            const std::optional<Hit<T>> common = common_path(c.ray, c.shape);
-            if (!common) continue;
-            ++answered;
-            const Hit<T> general = general_path(c.ray, c.shape);
-            ASSERT_TRUE(common->verdict == general.verdict && common->face == general.face &&
-                        same_bits(common->t_enter, general.t_enter) && same_bits(common->t_exit, general.t_exit))
-                << "generator " << name << " case " << k << " (RAYPROOF_SEED=" << base << "): " << c.ray << " vs "
-                << c.shape << "\n  straight-line path: " << *common << "\n  general path: " << general;
+            const std::string where = "generator " + std::string(name) + " case " + std::to_string(k) +
+                                      " (RAYPROOF_SEED=" + std::to_string(base) + ")";
+            bool a = false;
+            check(c, where, a);
+            if (::testing::Test::HasFatalFailure()) return;
+            answered += a;
         }
         if (name == "general") {
-            EXPECT_GE(answered, n - n / 100) << "the straight-line path answered " << answered << " of " << n;
+            EXPECT_GE(answered, n - n / 100) << path << " answered " << answered << " of " << n;
         }
     }
+}
+
+// A straight-line path (aabb_, obb_, plane_, sphere_certified_common) against the general
+// path: wherever the straight-line path answers, the two answers are identical bit for
+// bit (verdict, face, t_enter, t_exit).
+template <class T, class Shape, class Common, class General>
+void common_agrees_with_general(Common&& common_path, General&& general_path) {
+    on_valid_cases<T, Shape>("the straight-line path", [&](const auto& c, const std::string& where, bool& answered) {
+        const std::optional<Hit<T>> common = common_path(c.ray, c.shape);
+        if (!common) return;
+        answered = true;
+        const Hit<T> general = general_path(c.ray, c.shape);
+        ASSERT_TRUE(common->verdict == general.verdict && common->face == general.face &&
+                    same_bits(common->t_enter, general.t_enter) && same_bits(common->t_exit, general.t_exit))
+            << where << ": " << c.ray << " vs " << c.shape << "\n  straight-line path: " << *common
+            << "\n  general path: " << general;
+    });
 }
 
 }  // namespace
@@ -182,45 +196,44 @@ TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {
 // answers too (for the Aabb, whose filter needs a subset of the full path's conditions).
 template <class T, class Shape, class Filter, class General, class FullAnswers>
 void verdict_filter_agrees(Filter&& filter, General&& general_path, FullAnswers&& full_answers) {
-    const std::uint64_t base = seed();
-    for (const auto& g : gen::generators<T, Shape>()) {
-        const std::string_view name = g.name;
-        gen::Rng rng(base);
-        int answered = 0;
-        const int n = 4 * cases();
-        for (int k = 0; k < n; ++k) {
-            const auto c = g.make(rng);
-            if (!detail::valid(c.ray) || !detail::valid(c.shape)) continue;
-            const int v = filter(c.ray, c.shape);
-            const std::string where = "generator " + std::string(name) + " case " + std::to_string(k) +
-                                      " (RAYPROOF_SEED=" + std::to_string(base) + ")";
-            if (full_answers(c.ray, c.shape)) {
-                ASSERT_NE(v, detail::verdict_declined) << where << ": the full path answered, the verdict path declined";
-            }
-            if (v == detail::verdict_declined) continue;
-            ++answered;
-            ASSERT_EQ(Verdict(v), general_path(c.ray, c.shape).verdict) << where << ": " << c.ray << " vs " << c.shape;
+    on_valid_cases<T, Shape>("the verdict path", [&](const auto& c, const std::string& where, bool& answered) {
+        const int v = filter(c.ray, c.shape);
+        if (full_answers(c.ray, c.shape)) {
+            ASSERT_NE(v, detail::verdict_declined) << where << ": the full path answered, the verdict path declined";
         }
-        if (name == "general") {
-            EXPECT_GE(answered, n - n / 100) << "the verdict path answered " << answered << " of " << n;
-        }
-    }
+        if (v == detail::verdict_declined) return;
+        answered = true;
+        ASSERT_EQ(Verdict(v), general_path(c.ray, c.shape).verdict) << where << ": " << c.ray << " vs " << c.shape;
+    });
 }
 
 // Invalid variants of a valid case: each number of the ray and of the shape replaced by
 // NaN, +inf and -inf in turn, the limits made invalid, the direction zero, and the
-// shape's own rules broken (an Aabb's lo and hi swapped, a plane's normal zero).
-template <class T> void shape_variants(const Aabb<T>& s, std::vector<Aabb<T>>& out) {
-    const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
-    for (int i = 0; i < 3; ++i) {
-        for (const T x : {nan, inf, -inf}) {
-            Aabb<T> b = s;
-            b.lo[i] = x;
-            out.push_back(b);
-            b = s;
-            b.hi[i] = x;
-            out.push_back(b);
+// shape's own rules broken (an Aabb's lo and hi swapped, a plane's normal zero, a
+// negative radius).
+// The numbers of each value that must be finite (the ray's limits have rules of their own).
+template <class T> std::vector<T*> finite_numbers(Ray<T>& r) {
+    return {&r.origin[0], &r.origin[1], &r.origin[2], &r.direction[0], &r.direction[1], &r.direction[2]};
+}
+template <class T> std::vector<T*> finite_numbers(Aabb<T>& b) {
+    return {&b.lo[0], &b.lo[1], &b.lo[2], &b.hi[0], &b.hi[1], &b.hi[2]};
+}
+template <class T> std::vector<T*> finite_numbers(Plane<T>& p) { return {&p.normal[0], &p.normal[1], &p.normal[2], &p.offset}; }
+template <class T> std::vector<T*> finite_numbers(Sphere<T>& s) { return {&s.center[0], &s.center[1], &s.center[2], &s.radius}; }
+// x with each of its finite_numbers replaced by NaN, +inf and -inf in turn.
+template <class T, class X> void non_finite_variants(const X& x, std::vector<X>& out) {
+    X probe = x;
+    const std::size_t n = finite_numbers(probe).size();
+    for (const T v : {std::numeric_limits<T>::quiet_NaN(), std::numeric_limits<T>::infinity(), -std::numeric_limits<T>::infinity()})
+        for (std::size_t k = 0; k < n; ++k) {
+            X y = x;
+            *finite_numbers(y)[k] = v;
+            out.push_back(y);
         }
+}
+template <class T> void shape_variants(const Aabb<T>& s, std::vector<Aabb<T>>& out) {
+    non_finite_variants<T>(s, out);
+    for (int i = 0; i < 3; ++i) {
         if (s.lo[i] < s.hi[i]) {
             Aabb<T> b = s;
             std::swap(b.lo[i], b.hi[i]);
@@ -229,33 +242,13 @@ template <class T> void shape_variants(const Aabb<T>& s, std::vector<Aabb<T>>& o
     }
 }
 template <class T> void shape_variants(const Plane<T>& s, std::vector<Plane<T>>& out) {
-    const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
-    for (const T x : {nan, inf, -inf}) {
-        for (int i = 0; i < 3; ++i) {
-            Plane<T> q = s;
-            q.normal[i] = x;
-            out.push_back(q);
-        }
-        Plane<T> q = s;
-        q.offset = x;
-        out.push_back(q);
-    }
+    non_finite_variants<T>(s, out);
     Plane<T> q = s;
     q.normal = Vec3<T>(T(0), -T(0), T(0));
     out.push_back(q);
 }
 template <class T> void shape_variants(const Sphere<T>& s, std::vector<Sphere<T>>& out) {
-    const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
-    for (const T x : {nan, inf, -inf}) {
-        for (int i = 0; i < 3; ++i) {
-            Sphere<T> q = s;
-            q.center[i] = x;
-            out.push_back(q);
-        }
-        Sphere<T> q = s;
-        q.radius = x;
-        out.push_back(q);
-    }
+    non_finite_variants<T>(s, out);
     Sphere<T> q = s;
     q.radius = -std::max(s.radius, std::numeric_limits<T>::denorm_min());
     out.push_back(q);
@@ -263,15 +256,9 @@ template <class T> void shape_variants(const Sphere<T>& s, std::vector<Sphere<T>
 template <class T, class Shape> std::vector<std::pair<Ray<T>, Shape>> invalid_variants(const Ray<T>& ray, const Shape& shape) {
     const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
     std::vector<std::pair<Ray<T>, Shape>> out;
-    for (int i = 0; i < 3; ++i)
-        for (const T x : {nan, inf, -inf}) {
-            Ray<T> r = ray;
-            r.origin[i] = x;
-            out.push_back({r, shape});
-            r = ray;
-            r.direction[i] = x;
-            out.push_back({r, shape});
-        }
+    std::vector<Ray<T>> rays;
+    non_finite_variants<T>(ray, rays);
+    for (const Ray<T>& r : rays) out.push_back({r, shape});
     for (const auto& [t_min, t_max] : {std::pair{nan, ray.t_max}, std::pair{ray.t_min, nan}, std::pair{inf, inf},
                                        std::pair{-inf, -inf}, std::pair{T(2), T(1)}}) {
         Ray<T> r = ray;
