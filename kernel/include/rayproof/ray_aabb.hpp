@@ -53,6 +53,8 @@
 #include <rayproof/detail/slab_fast.hpp>
 #include <rayproof/detail/validate.hpp>
 
+#include <type_traits>
+
 namespace rayproof::detail {
 
 // A box with its validity decided once (the batch form prepares once per call). It
@@ -250,7 +252,12 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     L.inv01 = splat(1.0) / L.d01;
     L.inv22 = splat(1.0) / L.d22;
     // min and max drop a NaN d_i, but a NaN makes its slab values NaN, which the
-    // finiteness probe below catches.
+    // finiteness probe below catches. For float input the test is the probe's alone:
+    // every finite nonzero float has |d_i| in [2^-149, 2^128), inside the range; a zero
+    // d_i makes 1/d infinite and its slab values ±inf, or NaN where p - o is 0, and a NaN
+    // makes them NaN; an infinite d_i (1/d = ±0, finite slab values) makes the
+    // directions' sum, added to the probe's, infinite.
+    constexpr bool from_float = std::is_same_v<T, float>;
     const D2 a01 = abs(L.d01), a22 = abs(L.d22);
     const M2 d_in_range = (min(a01, a22) >= splat(0x1p-500)) & (max(a01, a22) <= splat(0x1p500));
     // Per axis x = (t_lo, -t_hi), the slab values t~ = fl(fl(p - o)·fl(1/d)) ((lo - o,
@@ -266,7 +273,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     const double o2 = double(r.origin[2]);
     const D2 p2 = make(double(b.lo[2]), o2), q2 = make(o2, double(b.hi[2]));
     const D2 x0 = lows(t_lo01, t_hi01), x1 = highs(t_lo01, t_hi01), x2 = (p2 - q2) * L.inv22;
-    const D2 sum = (t_lo01 + t_hi01) + x2, probe = sum - sum;
+    const D2 values = (t_lo01 + t_hi01) + x2, sum = from_float ? values + (L.d01 + L.d22) : values,
+             probe = sum - sum;
     L.V[0] = min(x0, -swap(x0));
     L.V[1] = min(x1, -swap(x1));
     L.V[2] = min(x2, -swap(x2));
@@ -277,7 +285,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     // both).
     const M2 boxed = (lo01 <= hi01) & (p2 <= swap(q2));
     const M2 limits = (L.limit < splat(inf)) & (L.limit <= -swap(L.limit));
-    L.usable = d_in_range & (probe == splat(0.0)) & boxed & limits;
+    const M2 checked = (probe == splat(0.0)) & boxed & limits;
+    L.usable = from_float ? checked : checked & d_in_range;
     L.v01 = max(L.V[0], L.V[1]);
     L.f01 = min(L.V[0], L.V[1]);
     L.m = max(L.v01, L.V[2]);
