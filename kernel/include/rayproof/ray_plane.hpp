@@ -128,25 +128,29 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, co
 
 // The certified verdict from a plain floating-point filter, before anything is pinned
 // (the verdict query answers from it alone; the full query takes its misses and goes on
-// to plane_pin for the rest). In double (exact for float inputs), N = offset - n·o in
-// lane 0 and D = n·d in lane 1 as ((s + p_0) + p_1) + p_2 with the products p_j =
-// fl(a_j b_j): each lane is at most 4 roundings from its sum, |N~ - N| <= gamma(4)·S_N
-// with S_N = |offset| + Σ|n_j o_j| (and S_D likewise), plus at most 3·2^-1075 from
-// products in the subnormal range. The bound e = fl(2·gamma(4)·S~) + eta, eta =
-// 2^-1022, covers that: S~ (the same sum of the |p_j|, rounded alike) is at least S(1 -
-// gamma(5)) - 2^-1073, so e >= gamma(4)·S·2(1 - gamma(5))(1 - u)^2 + eta/2 >= gamma(4)·S +
-// 3·2^-1075. With sigma = sign(D~), certain when |D~| > e_D, t = N/D lies in [t_min,
-// t_max] iff A = sigma·N - t_min·|D| >= 0 and C = t_max·|D| - sigma·N >= 0, in lanes 0
-// and 1. Their computed values X~ = fl(fl(±sigma·N~) ∓ fl(limit·|D~|)) are within
-// e_N + |limit|·e_D + u|limit·D~| + 2^-1075 + u(|N~| + |fl(limit·|D~|)|)·(1 + u) of A and
-// C (the errors of N~ and D~, then one rounding for the product and one for the
-// difference); every term doubled, E = fl(2(e_N + |limit|·e_D) + 8u(|N~| + |P~|) + 2eta)
-// with P~ = fl(limit·|D~|) bounds that with room for the five roundings of E itself
-// (each loses at most a factor 1 - u, and (1 - u)^5 > 1/2). So X~ >= E proves the
-// condition and X~ < -E disproves it; an infinite limit (t_min = -inf, t_max = +inf)
-// holds by itself. Validity comes with the verdict: e finite means every number but
-// t_min and t_max is finite (an infinite or NaN input makes S~ infinite or NaN), a
-// certain sign of D means n != 0 and d != 0, and valid_range checks the limits.
+// to plane_pin for the rest). In double (exact for float inputs), -N = n·o - offset in
+// lane 0 and D = n·d in lane 1 as ((-offset + p_0) + p_1) + p_2 with the products p_j =
+// fl(a_j b_j) (negation being exact, N~ is minus lane 0): each lane is at most 4
+// roundings from its sum, |N~ - N| <= gamma(4)·S_N with S_N = |offset| + Σ|n_j o_j| (and
+// S_D likewise), plus at most 3·2^-1075 from products in the subnormal range. The bound
+// e = fl(2·gamma(4)·S~) + eta, eta = 2^-1022, covers that: S~ (the same sum of the
+// |p_j|, rounded alike) is at least S(1 - gamma(5)) - 2^-1073, so e >= gamma(4)·S·2(1 -
+// gamma(5))(1 - u)^2 + eta/2 >= gamma(4)·S + 3·2^-1075. With sigma = sign(D~), certain
+// when |D~| > e_D, t = N/D lies in [t_min, t_max] iff A = sigma·N - t_min·|D| >= 0 and
+// C = t_max·|D| - sigma·N >= 0, in lanes 0 and 1. They are computed as X~ = sigma·Y~
+// with Y~ = fl((N~, -N~) + fl((-t_min, t_max)·D~)) (the sign bit of D~ moved onto Y~,
+// exactly); rounding to nearest being symmetric, X~ = fl(fl(±sigma·N~) ∓ fl(limit·|D~|))
+// and is within e_N + |limit|·e_D + u|limit·D~| + 2^-1075 + u(|N~| + |fl(limit·|D~|)|)·(1
+// + u) of A and C (the errors of N~ and D~, then one rounding for the product and one
+// for the difference); every term doubled, E = fl(2(e_N + |limit|·e_D) + 8u(|N~| + |P~|)
+// + 2eta) with P~ = fl(limit·D~) bounds that with room for the five roundings of E
+// itself (each loses at most a factor 1 - u, and (1 - u)^5 > 1/2). So X~ >= E proves
+// the condition and X~ < -E disproves it. An infinite limit (t_min = -inf, t_max =
+// +inf) holds by itself, and this test says so: P~ is infinite, with the sign that
+// makes X~ = +inf (N~ finite), and E = +inf (e_D > 0), so X~ >= E. Validity comes with the verdict: e finite means every number
+// but t_min and t_max is finite (an infinite or NaN input makes S~ infinite or NaN), a
+// certain sign of D means n != 0 and d != 0, and the limits are checked in the lanes
+// as the Aabb's are: (t_min, -t_max) below +inf and t_min <= t_max (NaN fails both).
 // verdict_declined when the filter cannot decide (D too close to 0, extreme exponents
 // that overflow S~, a crossing within the bounds of a limit), else int(Verdict::miss)
 // or int(Verdict::hit).
@@ -154,30 +158,22 @@ template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>&
     using namespace lanes;
     constexpr double u = 0x1p-53, K = 2 * gamma<double>(4), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
     const double f = double(p.offset);
-    D2 sum = make(f, 0.0), mag = make(std::abs(f), 0.0);
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC unroll 3
-#elif defined(__clang__)
-#pragma clang loop unroll(full)
-#endif
-    for (int j = 0; j < 3; ++j) {
-        const double n = double(p.normal[j]);
-        const D2 prod = make(-n, n) * make(double(r.origin[j]), double(r.direction[j]));
-        sum = sum + prod;
-        mag = mag + abs(prod);
-    }
-    const D2 e = mag * splat(K) + splat(eta);
-    const double N = lane0(sum), D = lane1(sum), eN = lane0(e), eD = lane1(e);
-    // sigma·N and |D| (sigma = sign(D~): the sign bit of D moved onto N).
-    const double aD = std::abs(D), sN = D < 0 ? -N : N;
-    const D2 limit = make(double(r.t_min), double(r.t_max)), P = limit * splat(aD);
-    const D2 X = make(sN, lane1(P)) - make(lane0(P), sN);
-    const D2 E = (splat(eN) + abs(limit) * splat(eD)) * splat(2.0) + (splat(std::abs(N)) + abs(P)) * splat(8 * u) +
-                 splat(2 * eta);
-    const M2 holds = (X >= E) | (abs(limit) == splat(inf)), fails = X < -E;
-    const bool usable = int(aD > eD) & int(bits(e < splat(inf)) == 3) & int(valid_range(r));
+    // The products (n_j o_j, n_j d_j) per axis, axes 0 and 1 from one product each.
+    const D2 n01 = load2(p.normal.data()), po = n01 * load2(r.origin.data()), pd = n01 * load2(r.direction.data());
+    const D2 x0 = lows(po, pd), x1 = highs(po, pd),
+             x2 = splat(double(p.normal[2])) * make(double(r.origin[2]), double(r.direction[2]));
+    const D2 sum = ((make(-f, 0.0) + x0) + x1) + x2, mag = ((make(std::abs(f), 0.0) + abs(x0)) + abs(x1)) + abs(x2);
+    const D2 e = mag * splat(K) + splat(eta), ND = negate_lane0(sum);  // (N~, D~)
+    const D2 Ns = splat(lane0(ND)), Ds = splat(lane1(ND)), eN = splat(lane0(e)), eD = splat(lane1(e));
+    const D2 limit = make(double(r.t_min), double(r.t_max)), P = negate_lane0(limit) * Ds;
+    const D2 X = times_sign(negate_lane1(Ns) + P, Ds);
+    const D2 E = (eN + abs(limit) * eD) * splat(2.0) + (abs(Ns) + abs(P)) * splat(8 * u) + splat(2 * eta);
+    const M2 holds = X >= E, fails = X < -E;
+    const D2 ordered = negate_lane1(limit);  // (t_min, -t_max)
+    const M2 valid_all = (e < splat(inf)) & (ordered < splat(inf)) & (ordered <= -swap(ordered));
+    const bool usable = int(bits(valid_all) == 3) & (bits(abs(ND) > e) >> 1);
     const bool hit = bits(holds) == 3, miss = bits(fails) != 0;
-    return usable && (hit || miss) ? int(hit) : verdict_declined;
+    return usable & (int(hit) | int(miss)) ? int(hit) : verdict_declined;
 }
 
 // The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures

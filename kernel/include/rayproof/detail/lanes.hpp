@@ -65,6 +65,9 @@ RAYPROOF_ALWAYS_INLINE D2 max(D2 a, D2 b) { return {_mm_max_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE D2 abs(D2 a) { return {_mm_andnot_pd(_mm_set1_pd(-0.0), a.v)}; }
 // Lane 1 negated, both lanes negated (exact).
 RAYPROOF_ALWAYS_INLINE D2 negate_lane1(D2 a) { return {_mm_xor_pd(a.v, _mm_set_pd(-0.0, 0.0))}; }
+RAYPROOF_ALWAYS_INLINE D2 negate_lane0(D2 a) { return {_mm_xor_pd(a.v, _mm_set_pd(0.0, -0.0))}; }
+// a with the sign bit of s added onto it (a·sign(s) exactly, for s not ±0 or NaN).
+RAYPROOF_ALWAYS_INLINE D2 times_sign(D2 a, D2 s) { return {_mm_xor_pd(a.v, _mm_and_pd(s.v, _mm_set1_pd(-0.0)))}; }
 RAYPROOF_ALWAYS_INLINE D2 operator-(D2 a) { return {_mm_xor_pd(a.v, _mm_set1_pd(-0.0))}; }
 RAYPROOF_ALWAYS_INLINE M2 operator<(D2 a, D2 b) { return {_mm_cmplt_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE M2 operator>(D2 a, D2 b) { return {_mm_cmpgt_pd(a.v, b.v)}; }
@@ -126,6 +129,10 @@ RAYPROOF_ALWAYS_INLINE D2 min(D2 x, D2 y) { return {x.a < y.a ? x.a : y.a, x.b <
 RAYPROOF_ALWAYS_INLINE D2 max(D2 x, D2 y) { return {x.a > y.a ? x.a : y.a, x.b > y.b ? x.b : y.b}; }
 RAYPROOF_ALWAYS_INLINE D2 abs(D2 x) { return {std::abs(x.a), std::abs(x.b)}; }
 RAYPROOF_ALWAYS_INLINE D2 negate_lane1(D2 x) { return {x.a, -x.b}; }
+RAYPROOF_ALWAYS_INLINE D2 negate_lane0(D2 x) { return {-x.a, x.b}; }
+RAYPROOF_ALWAYS_INLINE D2 times_sign(D2 x, D2 s) {
+    return {std::signbit(s.a) ? -x.a : x.a, std::signbit(s.b) ? -x.b : x.b};
+}
 RAYPROOF_ALWAYS_INLINE D2 operator-(D2 x) { return {-x.a, -x.b}; }
 RAYPROOF_ALWAYS_INLINE M2 operator<(D2 x, D2 y) { return {x.a < y.a, x.b < y.b}; }
 RAYPROOF_ALWAYS_INLINE M2 operator>(D2 x, D2 y) { return {x.a > y.a, x.b > y.b}; }
