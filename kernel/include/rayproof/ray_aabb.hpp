@@ -325,7 +325,6 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
     constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022;
     const AabbLanes L = aabb_lanes(r, b);
     const D2 d01 = L.d01, d22 = L.d22, m = L.m, limit = L.limit, m_lo = L.m_lo, m_hi = L.m_hi;
-    const double inv[3] = {lane0(L.inv01), lane1(L.inv01), lane0(L.inv22)};
     // The runner-up m2 per lane, and the winning axes (w: entry, v: exit) from the lane
     // masks with bit arithmetic (ties fail the checks below, so their order does not
     // matter).
@@ -337,7 +336,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
     const M2 axis_wins = (m2_hi < m_lo) & (m_lo > limit), limit_wins = m_hi < limit;
     const M2 hit = (axis_wins | limit_wins) & L.hit, miss = L.miss;
     // The winners rounded faithfully, computed on every path (discarded when a limit
-    // wins, or on a miss): lane 0 the plane entered on axis w, lane 1 the plane left on
+    // wins, or on a miss). Double input (float input below needs none of this): lane 0 the plane entered on axis w, lane 1 the plane left on
     // axis v in the negated problem (o - p). With s + e = p - o exactly (two_sum),
     // t = (s + e)/d and t - tt = (s + e - tt·d)/d for tt = t~ cut to 26 bits (|tt - t~|
     // < 2^-25|t~|). With d = dh + dl (dh: d cut to 26 bits, dl = d - dh exact, at most
@@ -350,21 +349,35 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
     // underflow: |d| in [2^-500, 2^500] and |t~| in [2^-400, 2^400] give |s| =
     // |t~·d|(1 ± 2u) in [2^-901, 2^901] and every product and partial sum normal (or
     // zero); s == 0 gives the exact ±0.
-    const double d_w = double(r.direction[w]), d_v = double(r.direction[v]);
     const int negative = bits(d01 < splat(0.0)) | (bits(d22 < splat(0.0)) & 1) << 2;  // bit i: d_i < 0
     const int neg_w = (negative >> w) & 1, neg_v = (negative >> v) & 1;
-    const D2 dd = make(d_w, d_v), tt = high26(m), dh = high26(dd);
-    // The entry lane wants p - o for the plane entered (hi when d_w < 0), the exit lane
-    // o - p for the plane left (lo when d_v < 0), split exactly by one two-lane two_sum:
-    // its s is the value the slab values above were made from (rounding to nearest is
-    // symmetric, so fl(hi - o) = -fl(o - hi)).
-    const double p_in = neg_w ? double(b.hi[w]) : double(b.lo[w]), p_out = neg_v ? double(b.lo[v]) : double(b.hi[v]);
-    const SumOf<D2> se = two_sum(make(p_in, double(r.origin[v])), -make(double(r.origin[w]), p_out));
-    const D2 tc = tt + ((se.hi - tt * dh) + (se.lo - tt * (dd - dh))) * make(inv[w], inv[v]);
-    const D2 am = abs(m);
-    const M2 rounded = limit_wins | ((am >= splat(0x1p-400)) & (am <= splat(0x1p400))) | (se.hi == splat(0.0));
+    // For float input the winners' computed values need no correction: within
+    // gamma(3)|t| < 2^-51|t| of t (no underflow or overflow in double: |p - o| >= 2^-149
+    // or 0, |1/d| in (2^-128, 2^149]), they round to float faithfully (a float lying
+    // between t and m would be within 2^-51|t| of m, far nearer than half the spacing
+    // 2^-25|t| (2^-150 among subnormals) to the float beyond it, so m rounds to that float,
+    // which encloses t; t itself when t is a float), and faithful_to clamps beyond the
+    // float range.
+    D2 tc = m;
+    M2 decided = miss | hit;
+    if constexpr (!std::is_same_v<T, float>) {
+        const double inv[3] = {lane0(L.inv01), lane1(L.inv01), lane0(L.inv22)};
+        const double d_w = double(r.direction[w]), d_v = double(r.direction[v]);
+        const D2 dd = make(d_w, d_v), tt = high26(m), dh = high26(dd);
+        // The entry lane wants p - o for the plane entered (hi when d_w < 0), the exit
+        // lane o - p for the plane left (lo when d_v < 0), split exactly by one two-lane
+        // two_sum: its s is the value the slab values above were made from (rounding to
+        // nearest is symmetric, so fl(hi - o) = -fl(o - hi)).
+        const double p_in = neg_w ? double(b.hi[w]) : double(b.lo[w]),
+                     p_out = neg_v ? double(b.lo[v]) : double(b.hi[v]);
+        const SumOf<D2> se = two_sum(make(p_in, double(r.origin[v])), -make(double(r.origin[w]), p_out));
+        tc = tt + ((se.hi - tt * dh) + (se.lo - tt * (dd - dh))) * make(inv[w], inv[v]);
+        const D2 am = abs(m);
+        const M2 rounded = limit_wins | ((am >= splat(0x1p-400)) & (am <= splat(0x1p400))) | (se.hi == splat(0.0));
+        decided = miss | (hit & rounded);
+    }
     // One branch on both lanes: a miss, or a hit decided and rounded in both.
-    if (bits(L.usable & (miss | (hit & rounded))) != 3) return std::nullopt;
+    if (bits(L.usable & decided) != 3) return std::nullopt;
     // The winner's value lies above the limit when the axis wins (its faithful rounding
     // too: the limit is a float) and below it when the limit wins, so max(tc, limit)
     // selects without a branch (a NaN tc gives the limit). Then (t_enter, t_exit) with
