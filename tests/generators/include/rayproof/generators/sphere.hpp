@@ -135,8 +135,35 @@ template <class T> Case<T, Sphere<T>> sphere_parallel(Rng& rng) {
 }
 
 // Origins exactly on the sphere (directions inward, outward, exactly tangent or radial),
-// or t_min / t_max exactly at the parameter of a point on the sphere.
+// or t_min / t_max exactly at the parameter of a point on the sphere; or, one case in
+// four, an origin c + r·u rounded to T for a random centre, radius and unit u (q at the
+// origin tiny, of either sign, with general mantissas: the sign a filter must not
+// guess from rounded arithmetic), t_min = 0 and the ray leaving the sphere or not.
 template <class T> Case<T, Sphere<T>> sphere_on_boundary(Rng& rng) {
+    if (chance(rng, 1, 4)) {
+        Case<T, Sphere<T>> c{{}, {}, "on_boundary"};
+        double u[3], n2 = 0;
+        do {
+            n2 = 0;
+            for (double& x : u) {
+                x = uniform<double>(rng, -1, 1);
+                n2 += x * x;
+            }
+        } while (n2 < 0x1p-4 || n2 > 1);
+        const double rad = uniform<double>(rng, 0.25, 8), n = std::sqrt(n2);
+        c.shape.radius = T(rad);
+        for (int j = 0; j < 3; ++j) {
+            c.shape.center[j] = uniform<T>(rng, -16, 16);
+            c.ray.origin[j] = T(double(c.shape.center[j]) + double(c.shape.radius) * (u[j] / n));
+            // mostly along u (leaving the sphere), else at random
+            const double w = uniform<double>(rng, -1, 1);
+            c.ray.direction[j] = T(chance(rng, 1, 3) ? w : u[j] + 0.5 * w);
+        }
+        if (c.ray.direction == Vec3<T>::Zero()) c.ray.direction[0] = T(1);
+        c.ray.t_min = 0;
+        c.ray.t_max = chance(rng, 1, 2) ? kInf<T> : uniform<T>(rng, 0, 16);
+        return c;
+    }
     for (;;) {
         Case<T, Sphere<T>> c{{}, {}, "on_boundary"};
         const I3 center = random_i3(rng, -8, 8);
