@@ -247,8 +247,27 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     // 1/d for the three axes (axes 0 and 1 in one division), and whether every |d_i| is
     // in [2^-500, 2^500]; outside it (d_i == ±0 included) the values below are
     // meaningless, and the final check sends the query to the general path.
-    L.d01 = load2(r.direction.data());
-    L.d22 = splat(double(r.direction[2]));
+    // The inputs as pairs of doubles; for float, from whole loads of the ray and the box
+    // (lanes::float_pairs_of_ray, float_pairs_of_box): p2 = (lo_2, o_2), q2 = (o_2, hi_2).
+    constexpr bool from_float = std::is_same_v<T, float>;
+    D2 o01, lo01, hi01, p2, q2;
+    if constexpr (from_float) {
+        const RayPairs rp = float_pairs_of_ray(r);
+        const Quad box = float_pairs_of_box(b);
+        const D2 lo01_f = box.lo, lo2_hi0 = box.hi, hi12 = load2(b.hi.data() + 1);
+        L.d01 = high_low(rp.o2d0, rp.d12);
+        L.d22 = highs(rp.d12, rp.d12);
+        o01 = rp.o01, lo01 = lo01_f, hi01 = high_low(lo2_hi0, hi12);
+        p2 = lows(lo2_hi0, rp.o2d0), q2 = low_high(rp.o2d0, hi12);
+        L.limit = negate_lane1(rp.limits);
+    } else {
+        L.d01 = load2(r.direction.data());
+        L.d22 = splat(double(r.direction[2]));
+        o01 = load2(r.origin.data()), lo01 = load2(b.lo.data()), hi01 = load2(b.hi.data());
+        const double o2 = double(r.origin[2]);
+        p2 = make(double(b.lo[2]), o2), q2 = make(o2, double(b.hi[2]));
+        L.limit = make(r.t_min, -double(r.t_max));
+    }
     L.inv01 = splat(1.0) / L.d01;
     L.inv22 = splat(1.0) / L.d22;
     // min and max drop a NaN d_i, but a NaN makes its slab values NaN, which the
@@ -257,7 +276,6 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     // d_i makes 1/d infinite and its slab values ±inf, or NaN where p - o is 0, and a NaN
     // makes them NaN; an infinite d_i (1/d = ±0, finite slab values) makes the
     // directions' sum, added to the probe's, infinite.
-    constexpr bool from_float = std::is_same_v<T, float>;
     const D2 a01 = abs(L.d01), a22 = abs(L.d22);
     const M2 d_in_range = (min(a01, a22) >= splat(0x1p-500)) & (max(a01, a22) <= splat(0x1p500));
     // Per axis x = (t_lo, -t_hi), the slab values t~ = fl(fl(p - o)·fl(1/d)) ((lo - o,
@@ -268,17 +286,13 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     // values (two per lane): 0 when s is finite, NaN when a value is infinite or NaN (or
     // when finite values overflow the sum, which only sends a valid query to the general
     // path), so probe == 0 implies every value finite.
-    const D2 o01 = load2(r.origin.data()), lo01 = load2(b.lo.data()), hi01 = load2(b.hi.data());
     const D2 t_lo01 = (lo01 - o01) * L.inv01, t_hi01 = (o01 - hi01) * L.inv01;
-    const double o2 = double(r.origin[2]);
-    const D2 p2 = make(double(b.lo[2]), o2), q2 = make(o2, double(b.hi[2]));
     const D2 x0 = lows(t_lo01, t_hi01), x1 = highs(t_lo01, t_hi01), x2 = (p2 - q2) * L.inv22;
     const D2 values = (t_lo01 + t_hi01) + x2, sum = from_float ? values + (L.d01 + L.d22) : values,
              probe = sum - sum;
     L.V[0] = min(x0, -swap(x0));
     L.V[1] = min(x1, -swap(x1));
     L.V[2] = min(x2, -swap(x2));
-    L.limit = make(r.t_min, -double(r.t_max));
     // lo <= hi on the three axes (lane 1 of the axis-2 test is o2 <= o2, true for the
     // finite values that pass the probe), and the limits: t_min <= t_max in both lanes
     // (the same test), t_min != +inf in lane 0 and t_max != -inf in lane 1 (NaN fails

@@ -157,15 +157,28 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, co
 template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>& r, const Plane<T>& p) {
     using namespace lanes;
     constexpr double u = 0x1p-53, K = 2 * gamma<double>(4), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
-    const double f = double(p.offset);
+    // The inputs as pairs of doubles (for float, from whole loads of the ray and the
+    // plane: lanes::float_pairs_of_ray, float_pairs_of_plane).
+    double f;
+    D2 n01, o01, d01, n22, od2, limit;  // od2 = (o_2, d_2)
+    if constexpr (std::is_same_v<T, float>) {
+        const RayPairs rp = float_pairs_of_ray(r);
+        const Quad pl = float_pairs_of_plane(p);
+        f = lane1(pl.hi);
+        n01 = pl.lo, o01 = rp.o01, d01 = high_low(rp.o2d0, rp.d12), n22 = lows(pl.hi, pl.hi);
+        od2 = low_high(rp.o2d0, rp.d12), limit = rp.limits;
+    } else {
+        f = p.offset;
+        n01 = load2(p.normal.data()), o01 = load2(r.origin.data()), d01 = load2(r.direction.data());
+        n22 = splat(p.normal[2]), od2 = make(r.origin[2], r.direction[2]), limit = make(r.t_min, r.t_max);
+    }
     // The products (n_j o_j, n_j d_j) per axis, axes 0 and 1 from one product each.
-    const D2 n01 = load2(p.normal.data()), po = n01 * load2(r.origin.data()), pd = n01 * load2(r.direction.data());
-    const D2 x0 = lows(po, pd), x1 = highs(po, pd),
-             x2 = splat(double(p.normal[2])) * make(double(r.origin[2]), double(r.direction[2]));
+    const D2 po = n01 * o01, pd = n01 * d01;
+    const D2 x0 = lows(po, pd), x1 = highs(po, pd), x2 = n22 * od2;
     const D2 sum = ((make(-f, 0.0) + x0) + x1) + x2, mag = ((make(std::abs(f), 0.0) + abs(x0)) + abs(x1)) + abs(x2);
     const D2 e = mag * splat(K) + splat(eta), ND = negate_lane0(sum);  // (N~, D~)
     const D2 Ns = splat(lane0(ND)), Ds = splat(lane1(ND)), eN = splat(lane0(e)), eD = splat(lane1(e));
-    const D2 limit = make(double(r.t_min), double(r.t_max)), P = negate_lane0(limit) * Ds;
+    const D2 P = negate_lane0(limit) * Ds;
     const D2 X = times_sign(negate_lane1(Ns) + P, Ds);
     const D2 E = (eN + abs(limit) * eD) * splat(2.0) + (abs(Ns) + abs(P)) * splat(8 * u) + splat(2 * eta);
     const M2 holds = X >= E, fails = X < -E;

@@ -16,6 +16,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 #if defined(__SSE2__) || defined(_M_X64)
 #include <emmintrin.h>
@@ -48,6 +49,15 @@ RAYPROOF_ALWAYS_INLINE D2 load2(const double* p) { return {_mm_loadu_pd(p)}; }
 RAYPROOF_ALWAYS_INLINE D2 load2(const float* p) {
     return {_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))))};
 }
+// The four floats in the 16 bytes at p as (p[0], p[1]) and (p[2], p[3]), exact, in one
+// load (see float_pairs below).
+struct Quad {
+    D2 lo, hi;
+};
+RAYPROOF_ALWAYS_INLINE Quad load4(const unsigned char* p) {
+    const __m128 v = _mm_loadu_ps(reinterpret_cast<const float*>(p));
+    return {{_mm_cvtps_pd(v)}, {_mm_cvtps_pd(_mm_movehl_ps(v, v))}};
+}
 // (lane 0 of a, lane 0 of b) and (lane 1 of a, lane 1 of b).
 RAYPROOF_ALWAYS_INLINE D2 lows(D2 a, D2 b) { return {_mm_unpacklo_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE D2 highs(D2 a, D2 b) { return {_mm_unpackhi_pd(a.v, b.v)}; }
@@ -56,6 +66,8 @@ RAYPROOF_ALWAYS_INLINE double lane1(D2 a) { return _mm_cvtsd_f64(_mm_unpackhi_pd
 RAYPROOF_ALWAYS_INLINE D2 swap(D2 a) { return {_mm_shuffle_pd(a.v, a.v, 1)}; }
 // (lane 0 of a, lane 1 of b).
 RAYPROOF_ALWAYS_INLINE D2 low_high(D2 a, D2 b) { return {_mm_shuffle_pd(a.v, b.v, 2)}; }
+// (lane 1 of a, lane 0 of b).
+RAYPROOF_ALWAYS_INLINE D2 high_low(D2 a, D2 b) { return {_mm_shuffle_pd(a.v, b.v, 1)}; }
 RAYPROOF_ALWAYS_INLINE D2 operator+(D2 a, D2 b) { return {_mm_add_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE D2 operator-(D2 a, D2 b) { return {_mm_sub_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE D2 operator*(D2 a, D2 b) { return {_mm_mul_pd(a.v, b.v)}; }
@@ -109,6 +121,9 @@ RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
 struct D2 {
     double a, b;
 };
+struct Quad {
+    D2 lo, hi;
+};
 struct M2 {
     bool a, b;
 };
@@ -121,6 +136,7 @@ RAYPROOF_ALWAYS_INLINE double lane0(D2 x) { return x.a; }
 RAYPROOF_ALWAYS_INLINE double lane1(D2 x) { return x.b; }
 RAYPROOF_ALWAYS_INLINE D2 swap(D2 x) { return {x.b, x.a}; }
 RAYPROOF_ALWAYS_INLINE D2 low_high(D2 x, D2 y) { return {x.a, y.b}; }
+RAYPROOF_ALWAYS_INLINE D2 high_low(D2 x, D2 y) { return {x.b, y.a}; }
 RAYPROOF_ALWAYS_INLINE D2 operator+(D2 x, D2 y) { return {x.a + y.a, x.b + y.b}; }
 RAYPROOF_ALWAYS_INLINE D2 operator-(D2 x, D2 y) { return {x.a - y.a, x.b - y.b}; }
 RAYPROOF_ALWAYS_INLINE D2 operator*(D2 x, D2 y) { return {x.a * y.a, x.b * y.b}; }
@@ -167,5 +183,46 @@ RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
 // fused form is written out with its own intrinsic, and the split form is used only
 // where the target has no fused multiply-add, so contraction (-ffp-contract=fast) cannot
 // fuse fl(a·b) into a later subtraction and change the error term.
+
+// The floats of a Ray<float> as pairs of doubles (exact): (o0, o1), (o2, d0), (d1, d2),
+// (t_min, t_max), their order in memory. A Ray<float> is standard layout, eight floats
+// without padding (checked), so with SSE2 it is read as two 16-byte loads of its object
+// representation, converted two floats at a time; elsewhere member by member. The
+// float straight-line paths take their inputs from here and the shape's pairs below
+// (a scalar load and conversion per float costs about three instructions more).
+struct RayPairs {
+    D2 o01, o2d0, d12, limits;
+};
+template <class R> RAYPROOF_ALWAYS_INLINE RayPairs float_pairs_of_ray(const R& r) {
+    static_assert(std::is_standard_layout_v<R> && sizeof(R) == 8 * sizeof(float) && sizeof(r.origin) == 3 * sizeof(float));
+#if defined(RAYPROOF_LANES_SSE2)
+    const auto* bytes = reinterpret_cast<const unsigned char*>(&r);
+    const Quad a = load4(bytes), b = load4(bytes + 16);
+    return {a.lo, a.hi, b.lo, b.hi};
+#else
+    return {make(r.origin[0], r.origin[1]), make(r.origin[2], r.direction[0]), make(r.direction[1], r.direction[2]),
+            make(r.t_min, r.t_max)};
+#endif
+}
+// The first four floats of an Aabb<float> (lo0, lo1, lo2, hi0) and of a Plane<float>
+// (n0, n1, n2, offset) as two pairs, the same way (both standard layout, checked).
+template <class B> RAYPROOF_ALWAYS_INLINE Quad float_pairs_of_box(const B& b) {
+    static_assert(std::is_standard_layout_v<B> && sizeof(B) == 6 * sizeof(float) && sizeof(b.lo) == 3 * sizeof(float));
+#if defined(RAYPROOF_LANES_SSE2)
+    const Quad q = load4(reinterpret_cast<const unsigned char*>(&b));
+    return {q.lo, q.hi};
+#else
+    return {make(b.lo[0], b.lo[1]), make(b.lo[2], b.hi[0])};
+#endif
+}
+template <class P> RAYPROOF_ALWAYS_INLINE Quad float_pairs_of_plane(const P& p) {
+    static_assert(std::is_standard_layout_v<P> && sizeof(P) == 4 * sizeof(float) && sizeof(p.normal) == 3 * sizeof(float));
+#if defined(RAYPROOF_LANES_SSE2)
+    const Quad q = load4(reinterpret_cast<const unsigned char*>(&p));
+    return {q.lo, q.hi};
+#else
+    return {make(p.normal[0], p.normal[1]), make(p.normal[2], p.offset)};
+#endif
+}
 
 }  // namespace rayproof::detail::lanes
