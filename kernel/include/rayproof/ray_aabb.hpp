@@ -248,18 +248,17 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     // in [2^-500, 2^500]; outside it (d_i == ±0 included) the values below are
     // meaningless, and the final check sends the query to the general path.
     // The inputs as pairs of doubles; for float, from whole loads of the ray and the box
-    // (lanes::float_pairs_of_ray, float_pairs_of_box): p2 = (lo_2, o_2), q2 = (o_2, hi_2).
+    // (lanes::float_quad): p2 = (lo_2, o_2), q2 = (o_2, hi_2).
     constexpr bool from_float = std::is_same_v<T, float>;
     D2 o01, lo01, hi01, p2, q2;
     if constexpr (from_float) {
-        const RayPairs rp = float_pairs_of_ray(r);
-        const Quad box = float_pairs_of_box(b);
-        const D2 lo01_f = box.lo, lo2_hi0 = box.hi, hi12 = load2(b.hi.data() + 1);
-        L.d01 = high_low(rp.o2d0, rp.d12);
-        L.d22 = highs(rp.d12, rp.d12);
-        o01 = rp.o01, lo01 = lo01_f, hi01 = high_low(lo2_hi0, hi12);
-        p2 = lows(lo2_hi0, rp.o2d0), q2 = low_high(rp.o2d0, hi12);
-        L.limit = negate_lane1(rp.limits);
+        const Quad r0 = float_quad<8, 0>(r), r1 = float_quad<8, 4>(r), box = float_quad<6, 0>(b);
+        const D2 o2d0 = r0.hi, d12 = r1.lo, lo2_hi0 = box.hi, hi12 = load2(b.hi.data() + 1);
+        L.d01 = high_low(o2d0, d12);
+        L.d22 = highs(d12, d12);
+        o01 = r0.lo, lo01 = box.lo, hi01 = high_low(lo2_hi0, hi12);
+        p2 = lows(lo2_hi0, o2d0), q2 = low_high(o2d0, hi12);
+        L.limit = negate_lane1(r1.hi);
     } else {
         L.d01 = load2(r.direction.data());
         L.d22 = splat(double(r.direction[2]));

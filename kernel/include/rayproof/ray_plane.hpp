@@ -158,15 +158,14 @@ template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>&
     using namespace lanes;
     constexpr double u = 0x1p-53, K = 2 * gamma<double>(4), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
     // The inputs as pairs of doubles (for float, from whole loads of the ray and the
-    // plane: lanes::float_pairs_of_ray, float_pairs_of_plane).
+    // plane: lanes::float_quad).
     double f;
     D2 n01, o01, d01, n22, od2, limit;  // od2 = (o_2, d_2)
     if constexpr (std::is_same_v<T, float>) {
-        const RayPairs rp = float_pairs_of_ray(r);
-        const Quad pl = float_pairs_of_plane(p);
+        const Quad r0 = float_quad<8, 0>(r), r1 = float_quad<8, 4>(r), pl = float_quad<4, 0>(p);
         f = lane1(pl.hi);
-        n01 = pl.lo, o01 = rp.o01, d01 = high_low(rp.o2d0, rp.d12), n22 = lows(pl.hi, pl.hi);
-        od2 = low_high(rp.o2d0, rp.d12), limit = rp.limits;
+        n01 = pl.lo, o01 = r0.lo, d01 = high_low(r0.hi, r1.lo), n22 = lows(pl.hi, pl.hi);
+        od2 = low_high(r0.hi, r1.lo), limit = r1.hi;
     } else {
         f = p.offset;
         n01 = load2(p.normal.data()), o01 = load2(r.origin.data()), d01 = load2(r.direction.data());

@@ -16,6 +16,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 
 #if defined(__SSE2__) || defined(_M_X64)
@@ -50,7 +51,7 @@ RAYPROOF_ALWAYS_INLINE D2 load2(const float* p) {
     return {_mm_cvtps_pd(_mm_castsi128_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p))))};
 }
 // The four floats in the 16 bytes at p as (p[0], p[1]) and (p[2], p[3]), exact, in one
-// load (see float_pairs below).
+// load (see float_quad below).
 struct Quad {
     D2 lo, hi;
 };
@@ -184,44 +185,21 @@ RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
 // where the target has no fused multiply-add, so contraction (-ffp-contract=fast) cannot
 // fuse fl(a·b) into a later subtraction and change the error term.
 
-// The floats of a Ray<float> as pairs of doubles (exact): (o0, o1), (o2, d0), (d1, d2),
-// (t_min, t_max), their order in memory. A Ray<float> is standard layout, eight floats
-// without padding (checked), so with SSE2 it is read as two 16-byte loads of its object
-// representation, converted two floats at a time; elsewhere member by member. The
-// float straight-line paths take their inputs from here and the shape's pairs below
-// (a scalar load and conversion per float costs about three instructions more).
-struct RayPairs {
-    D2 o01, o2d0, d12, limits;
-};
-template <class R> RAYPROOF_ALWAYS_INLINE RayPairs float_pairs_of_ray(const R& r) {
-    static_assert(std::is_standard_layout_v<R> && sizeof(R) == 8 * sizeof(float) && sizeof(r.origin) == 3 * sizeof(float));
+// Floats K to K + 3 of an object made of N floats and nothing else, as (f_K, f_K+1) and
+// (f_K+2, f_K+3), exact: a Ray<float> is o0 o1 o2 d0 | d1 d2 t_min t_max, an
+// Aabb<float> lo0 lo1 lo2 hi0 | hi1 hi2, a Plane<float> n0 n1 n2 offset. Standard layout
+// and a size of N floats (checked) put float i at byte 4i. With SSE2 one 16-byte load of
+// the object representation and two conversions (a scalar load and conversion per float
+// costs about three instructions more); elsewhere the same bytes copied.
+template <int N, int K, class S> RAYPROOF_ALWAYS_INLINE Quad float_quad(const S& s) {
+    static_assert(std::is_standard_layout_v<S> && sizeof(S) == N * sizeof(float) && K >= 0 && K + 4 <= N);
+    const auto* bytes = reinterpret_cast<const unsigned char*>(&s) + K * sizeof(float);
 #if defined(RAYPROOF_LANES_SSE2)
-    const auto* bytes = reinterpret_cast<const unsigned char*>(&r);
-    const Quad a = load4(bytes), b = load4(bytes + 16);
-    return {a.lo, a.hi, b.lo, b.hi};
+    return load4(bytes);
 #else
-    return {make(r.origin[0], r.origin[1]), make(r.origin[2], r.direction[0]), make(r.direction[1], r.direction[2]),
-            make(r.t_min, r.t_max)};
-#endif
-}
-// The first four floats of an Aabb<float> (lo0, lo1, lo2, hi0) and of a Plane<float>
-// (n0, n1, n2, offset) as two pairs, the same way (both standard layout, checked).
-template <class B> RAYPROOF_ALWAYS_INLINE Quad float_pairs_of_box(const B& b) {
-    static_assert(std::is_standard_layout_v<B> && sizeof(B) == 6 * sizeof(float) && sizeof(b.lo) == 3 * sizeof(float));
-#if defined(RAYPROOF_LANES_SSE2)
-    const Quad q = load4(reinterpret_cast<const unsigned char*>(&b));
-    return {q.lo, q.hi};
-#else
-    return {make(b.lo[0], b.lo[1]), make(b.lo[2], b.hi[0])};
-#endif
-}
-template <class P> RAYPROOF_ALWAYS_INLINE Quad float_pairs_of_plane(const P& p) {
-    static_assert(std::is_standard_layout_v<P> && sizeof(P) == 4 * sizeof(float) && sizeof(p.normal) == 3 * sizeof(float));
-#if defined(RAYPROOF_LANES_SSE2)
-    const Quad q = load4(reinterpret_cast<const unsigned char*>(&p));
-    return {q.lo, q.hi};
-#else
-    return {make(p.normal[0], p.normal[1]), make(p.normal[2], p.offset)};
+    float f[4];
+    std::memcpy(f, bytes, sizeof f);
+    return {make(f[0], f[1]), make(f[2], f[3])};
 #endif
 }
 
