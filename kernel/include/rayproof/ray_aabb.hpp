@@ -349,8 +349,9 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
     const M2 axis_wins = (m2_hi < m_lo) & (m_lo > limit), limit_wins = m_hi < limit;
     const M2 hit = (axis_wins | limit_wins) & L.hit, miss = L.miss;
     // The winners rounded faithfully, computed on every path (discarded when a limit
-    // wins, or on a miss). Double input (float input below needs none of this): lane 0 the plane entered on axis w, lane 1 the plane left on
-    // axis v in the negated problem (o - p). With s + e = p - o exactly (two_sum),
+    // wins, or on a miss). Double input (float input below needs none of this): lane 0
+    // the plane entered on axis w, lane 1 the plane left on axis v in the negated
+    // problem (o - p). With s + e = p - o exactly (two_sum),
     // t = (s + e)/d and t - tt = (s + e - tt·d)/d for tt = t~ cut to 26 bits (|tt - t~|
     // < 2^-25|t~|). With d = dh + dl (dh: d cut to 26 bits, dl = d - dh exact, at most
     // 27 bits) the products tt·dh (52 bits) and tt·dl (53 bits) are exact, and
