@@ -242,7 +242,7 @@ struct AabbLanes {
 
 template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, const Aabb<T>& b) {
     using namespace lanes;
-    constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
+    constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022;
     AabbLanes L;
     // 1/d for the three axes (axes 0 and 1 in one division), and whether every |d_i| is
     // in [2^-500, 2^500]; outside it (d_i == ±0 included) the values below are
@@ -297,7 +297,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     // (the same test), t_min != +inf in lane 0 and t_max != -inf in lane 1 (NaN fails
     // both).
     const M2 boxed = (lo01 <= hi01) & (p2 <= swap(q2));
-    const M2 limits = (L.limit < splat(inf)) & (L.limit <= -swap(L.limit));
+    const M2 limits = valid_range_lanes(L.limit);
     const M2 checked = (probe == splat(0.0)) & boxed & limits;
     L.usable = from_float ? checked : checked & d_in_range;
     L.v01 = max(L.V[0], L.V[1]);

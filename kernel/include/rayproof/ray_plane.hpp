@@ -182,7 +182,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>&
     const D2 E = (eN + abs(limit) * eD) * splat(2.0) + (abs(Ns) + abs(P)) * splat(8 * u) + splat(2 * eta);
     const M2 holds = X >= E, fails = X < -E;
     const D2 ordered = negate_lane1(limit);  // (t_min, -t_max)
-    const M2 valid_all = (e < splat(inf)) & (ordered < splat(inf)) & (ordered <= -swap(ordered));
+    const M2 valid_all = (e < splat(inf)) & valid_range_lanes(ordered);
     const bool usable = int(bits(valid_all) == 3) & (bits(abs(ND) > e) >> 1);
     const bool hit = bits(holds) == 3, miss = bits(fails) != 0;
     return usable & (int(hit) | int(miss)) ? int(hit) : verdict_declined;

@@ -737,7 +737,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE int sphere_verdict_common(const Ray<T>
     const M2 inside = v < -tq, outside = (v > tq) | infinite;
     const M2 away = out > ts, toward = (out < -ts) | infinite;  // the slope at each end
     const D2 ordered = negate_lane1(t);                              // (t_min, -t_max)
-    const M2 limits = (ordered < splat(inf)) & (ordered <= -swap(ordered));
+    const M2 limits = valid_range_lanes(ordered);
     const bool usable = int(bits(limits) == 3) & int(rad >= 0) & int(a >= 0x1p-1000);
     const bool hit = (bits(inside) != 0) | (int(bits(toward) == 3) & int(line_in));
     const bool miss = int(line_out) | int(bits(outside & away) != 0);

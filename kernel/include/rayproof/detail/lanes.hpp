@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <type_traits>
 
 #if defined(__SSE2__) || defined(_M_X64)
@@ -184,6 +185,13 @@ RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
 // fused form is written out with its own intrinsic, and the split form is used only
 // where the target has no fused multiply-add, so contraction (-ffp-contract=fast) cannot
 // fuse fl(a·b) into a later subtraction and change the error term.
+
+// valid_range (validate.hpp) in the lanes, for ordered = (t_min, -t_max): t_min <= t_max
+// (in lane 0 as t_min <= t_max, in lane 1 as -t_max <= -t_min), t_min != +inf and t_max
+// != -inf; NaN fails every test. Both bits set when the range is valid.
+RAYPROOF_ALWAYS_INLINE M2 valid_range_lanes(D2 ordered) {
+    return (ordered < splat(std::numeric_limits<double>::infinity())) & (ordered <= -swap(ordered));
+}
 
 // Floats K to K + 3 of an object made of N floats and nothing else, as (f_K, f_K+1) and
 // (f_K+2, f_K+3), exact: a Ray<float> is o0 o1 o2 d0 | d1 d2 t_min t_max, an
