@@ -27,7 +27,7 @@ done
 # name | target | file | perl substitution (must match exactly once) | what it breaks
 MUTATIONS=(
   "aabb-no-correction|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/tc = tt \+ \(/tc = m + splat(0.0) * (/|certified Aabb t not faithfully rounded for double (the straight-line path's correction dropped)"
-  "aabb-filter-no-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/constexpr double K = 2 \* gamma<double>\(3\), eta = 0x1p-1022,/constexpr double K = 0, eta = 0,/|certified Aabb filter without its error bound: every close comparison decided by floating point"
+  "aabb-filter-no-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/const D2 bm = abs\(L.m\) \* splat\(K\) \+ splat\(eta\);/const D2 bm = splat(0.0);/|certified Aabb filter without its error bound: every close comparison decided by floating point"
   "aabb-conservative-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/constexpr double K = 2 \* gamma<double>\(3\);/constexpr double K = 0;/|conservative Aabb enclosure without its error bound"
   "aabb-verdict-no-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/const D2 h = max\(L.limit, L.m_hi\), g = max\(L.limit, L.m_lo\);/const D2 h = max(L.limit, L.m), g = max(L.limit, L.m);/|certified Aabb straight-line verdict (the verdict query's and the full query's) decided on the computed values, without their bounds"
   "aabb-common-no-probe|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/const M2 checked = \(probe == splat\(0.0\)\) & boxed & limits;/const M2 checked = boxed & limits;/|certified Aabb straight-line paths answer for infinite or NaN input (their finiteness probe dropped)"
