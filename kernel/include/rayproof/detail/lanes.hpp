@@ -17,7 +17,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <limits>
 #include <type_traits>
 
 #if defined(__SSE2__) || defined(_M_X64)
@@ -91,6 +90,9 @@ RAYPROOF_ALWAYS_INLINE M2 operator==(D2 a, D2 b) { return {_mm_cmpeq_pd(a.v, b.v
 RAYPROOF_ALWAYS_INLINE M2 operator&(M2 a, M2 b) { return {_mm_and_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE M2 operator|(M2 a, M2 b) { return {_mm_or_pd(a.v, b.v)}; }
 RAYPROOF_ALWAYS_INLINE int bits(M2 a) { return _mm_movemask_pd(a.v); }
+// Lane 0's, lane 1's mask in both lanes.
+RAYPROOF_ALWAYS_INLINE M2 both_lane0(M2 a) { return {_mm_unpacklo_pd(a.v, a.v)}; }
+RAYPROOF_ALWAYS_INLINE M2 both_lane1(M2 a) { return {_mm_unpackhi_pd(a.v, a.v)}; }
 // high26 in both lanes.
 RAYPROOF_ALWAYS_INLINE D2 high26(D2 a) { return {_mm_and_pd(a.v, _mm_castsi128_pd(_mm_set1_epi64x(~std::int64_t(0x7ffffff))))}; }
 // The lanes where the mask is set, +0 elsewhere.
@@ -160,6 +162,8 @@ RAYPROOF_ALWAYS_INLINE M2 operator==(D2 x, D2 y) { return {x.a == y.a, x.b == y.
 RAYPROOF_ALWAYS_INLINE M2 operator&(M2 x, M2 y) { return {x.a && y.a, x.b && y.b}; }
 RAYPROOF_ALWAYS_INLINE M2 operator|(M2 x, M2 y) { return {x.a || y.a, x.b || y.b}; }
 RAYPROOF_ALWAYS_INLINE int bits(M2 x) { return int(x.a) | (int(x.b) << 1); }
+RAYPROOF_ALWAYS_INLINE M2 both_lane0(M2 x) { return {x.a, x.a}; }
+RAYPROOF_ALWAYS_INLINE M2 both_lane1(M2 x) { return {x.b, x.b}; }
 RAYPROOF_ALWAYS_INLINE D2 high26(D2 x) { return {high26(x.a), high26(x.b)}; }
 RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 x) { return {m.a ? x.a : 0.0, m.b ? x.b : 0.0}; }
 RAYPROOF_ALWAYS_INLINE D2 select(M2 m, D2 x, D2 y) { return {m.a ? x.a : y.a, m.b ? x.b : y.b}; }
@@ -186,12 +190,16 @@ RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
 // where the target has no fused multiply-add, so contraction (-ffp-contract=fast) cannot
 // fuse fl(a·b) into a later subtraction and change the error term.
 
-// valid_range (validate.hpp) in the lanes, for ordered = (t_min, -t_max): t_min <= t_max
-// (in lane 0 as t_min <= t_max, in lane 1 as -t_max <= -t_min), t_min != +inf and t_max
-// != -inf; NaN fails every test. Both bits set when the range is valid.
-RAYPROOF_ALWAYS_INLINE M2 valid_range_lanes(D2 ordered) {
-    return (ordered < splat(std::numeric_limits<double>::infinity())) & (ordered <= -swap(ordered));
-}
+// valid_range (validate.hpp) in the lanes, for ordered = (t_min, -t_max): t_min <= t_max,
+// t_min != +inf and t_max != -inf, as the one test fl(t_min + (-t_max)) <= 0 (in both
+// lanes, the same sum). A sum of two doubles rounds to a value of its exact sign, to 0
+// only when it is 0 (no underflow in an addition) and to ±inf of its sign when it
+// overflows, so for finite ends the test is t_min <= t_max. With an infinite end the sum
+// is -inf (t_min = -inf or t_max = +inf, the other end finite or the other infinity:
+// valid), +inf (t_min = +inf or t_max = -inf, the other end finite) or NaN (t_min =
+// t_max = ±inf); NaN in an end gives NaN, which fails. Both bits set when the range is
+// valid.
+RAYPROOF_ALWAYS_INLINE M2 valid_range_lanes(D2 ordered) { return ordered + swap(ordered) <= splat(0.0); }
 
 // Floats K to K + 3 of an object made of N floats and nothing else, as (f_K, f_K+1) and
 // (f_K+2, f_K+3), exact: a Ray<float> is o0 o1 o2 d0 | d1 d2 t_min t_max, an
