@@ -35,12 +35,12 @@
 //            products tt·dh and tt·dl are exact and t' = fl(tt + fl(fl(fl(s - tt·dh)
 //            + fl(e - tt·dl))·fl(1/d))) is one of the two floats enclosing t, and t
 //            itself when t is representable (the derivation is at the code). It
-//            answers for |d_i| in [2^-500, 2^500] and winners |t~| in [2^-400, 2^400]
-//            (or t == 0) and hands everything else, and every comparison its
-//            enclosures cannot separate, to the general path (slab_certified on
-//            AabbFrame), whose faithful rounding is the compensated correction of
-//            faithful_slab_value (valid while |s|, |t~| >= 2^-960) and exact
-//            arithmetic beyond.
+//            answers for |d_i| < 2^1022 (1/d normal), the winners' |d| in [2^-500,
+//            2^500] and |t~| in [2^-400, 2^400] (or t == 0) and hands everything
+//            else, and every comparison its enclosures cannot separate, to the general
+//            path (slab_certified on AabbFrame), whose faithful rounding is the
+//            compensated correction of faithful_slab_value (valid while |s|, |t~| >=
+//            2^-960) and exact arithmetic beyond.
 //            For float, every step runs in double: a faithfully rounded double rounded
 //            to nearest float is a faithfully rounded float.
 //            The verdict alone (verdict() in intersect.hpp) runs on the same lanes and
@@ -210,43 +210,42 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 // vouch for (close values, overflow, extreme exponents) to the general path,
 // slab_certified on AabbFrame, which decides exactly. This one only answers where its
 // decisions are proven, so both give the same answer.
-// Bound: with 1/d normal and finite (|d| in [2^-500, 2^500]), p - o exact when it is
-// subnormal, and a subnormal product off by at most 2^-1075, each computed value is
-// within gamma(3)|t| + 2^-1075 of t; the ends t~ ∓ (K|t~| + eta), K = 2·gamma(3),
-// eta = 2^-1022 (the smallest normal: a subnormal constant would slow every query on
-// processors that take an assist on subnormal operands), cover that and their own two
-// roundings (see the header comment).
+// Bound: with 1/d normal and finite, p - o exact when it is subnormal, and a subnormal
+// product off by at most 2^-1075, each computed value is within gamma(3)|t| + 2^-1075
+// of t; the ends t~ ∓ (K|t~| + eta), K = 2·gamma(3), eta = 2^-1022 (the smallest
+// normal: a subnormal constant would slow every query on processors that take an
+// assist on subnormal operands), cover that and their own two roundings (see the header
+// comment).
 // Validity and overflow: this path answers only when all six computed values are
-// finite. A finite fl(fl(p - o)·fl(1/d)) with 1/d finite needs p - o finite, hence p and
-// o finite (an infinite or NaN operand gives ±inf or NaN), so with every |d_i| in
-// [2^-500, 2^500] (finite and nonzero), lo <= hi on every axis and the limits checked
-// here, the inputs are valid and no separate validation is needed. An overflow of
-// p - o or of the product (t finite but beyond the range) gives ±inf and sends the
-// query to the general path, which validates in full first.
+// finite and so are the directions' terms of the same probe (4·d_i for double, d_i for
+// float). A finite 4·d_i means |d_i| < 2^1022, so |fl(1/d_i)| >= 2^-1022 is normal; a
+// finite slab value fl(fl(p - o)·fl(1/d)) needs 1/d finite (d_i = ±0, or so small that
+// 1/d_i overflows, gives ±inf or NaN) and p - o finite, hence p and o finite (an
+// infinite or NaN operand gives ±inf or NaN). So with lo <= hi on every axis and the
+// range checked here, the inputs are valid and no separate validation is needed. An
+// overflow of p - o or of the product (t finite but beyond the range) gives ±inf and
+// sends the query to the general path, which validates in full first.
 
 // The slab values in their two lanes and the bounds every certain verdict rests on,
 // shared by the full query (aabb_certified_common) and the verdict query
 // (aabb_verdict_common), so that the two decide a verdict by the same computation.
 struct AabbLanes {
     lanes::D2 d01, d22, inv01, inv22;  // the directions and their reciprocals
-    lanes::M2 usable;                  // every |d_i| in [2^-500, 2^500], every value
-                                       // finite, lo <= hi and valid limits
+    lanes::M2 usable;                  // every value (and direction term) finite, lo <= hi
     lanes::D2 V[3];                    // per axis (entry, -exit) as computed
     lanes::D2 v01, f01;                // max and min of axes 0 and 1
     lanes::D2 m;                       // per lane the largest value
     lanes::D2 limit;                   // (t_min, -t_max)
     lanes::D2 m_lo, m_hi;              // m's enclosure
-    lanes::M2 hit, miss;               // the verdicts the enclosures prove (hit: not yet
-                                       // the winners, which only the full query needs)
+    lanes::M2 proven;                  // lane 0: a hit is proven, lane 1: a miss (not yet
+                                       // the winners, which only the full query needs);
+                                       // either only on a valid range
 };
 
 template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, const Aabb<T>& b) {
     using namespace lanes;
     constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022;
     AabbLanes L;
-    // 1/d for the three axes (axes 0 and 1 in one division), and whether every |d_i| is
-    // in [2^-500, 2^500]; outside it (d_i == ±0 included) the values below are
-    // meaningless, and the final check sends the query to the general path.
     // The inputs as pairs of doubles; for float, from whole loads of the ray and the box
     // (lanes::float_quad): p2 = (lo_2, o_2), q2 = (o_2, hi_2).
     constexpr bool from_float = std::is_same_v<T, float>;
@@ -267,39 +266,35 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
         p2 = make(double(b.lo[2]), o2), q2 = make(o2, double(b.hi[2]));
         L.limit = make(r.t_min, -double(r.t_max));
     }
+    // 1/d for the three axes (axes 0 and 1 in one division); where it is not normal and
+    // finite the values below are meaningless, and the probe sends the query to the
+    // general path.
     L.inv01 = splat(1.0) / L.d01;
     L.inv22 = splat(1.0) / L.d22;
-    // min and max drop a NaN d_i, but a NaN makes its slab values NaN, which the
-    // finiteness probe below catches. For float input the test is the probe's alone:
-    // every finite nonzero float has |d_i| in [2^-149, 2^128), inside the range; a zero
-    // d_i makes 1/d infinite and its slab values ±inf, or NaN where p - o is 0, and a NaN
-    // makes them NaN; an infinite d_i (1/d = ±0, finite slab values) makes the
-    // directions' sum, added to the probe's, infinite.
-    const D2 a01 = abs(L.d01), a22 = abs(L.d22);
-    const M2 d_in_range = (min(a01, a22) >= splat(0x1p-500)) & (max(a01, a22) <= splat(0x1p500));
-    // Per axis x = (t_lo, -t_hi), the slab values t~ = fl(fl(p - o)·fl(1/d)) ((lo - o,
-    // o - hi) is (t_lo, -t_hi)·d exactly as rounded, rounding to nearest being
-    // symmetric), and (entry, -exit) = min(x, -swap(x)). Axes 0 and 1 are computed side
-    // by side, (t_lo0, t_lo1) and (-t_hi0, -t_hi1), and regrouped per axis (the same
-    // operations on the same operands as axis 2). probe = s - s for s the sum of all six
-    // values (two per lane): 0 when s is finite, NaN when a value is infinite or NaN (or
-    // when finite values overflow the sum, which only sends a valid query to the general
-    // path), so probe == 0 implies every value finite.
+    // The slab values t~ = fl(fl(p - o)·fl(1/d)): t_lo01 = (t_lo0, t_lo1), t_hi01 =
+    // (-t_hi0, -t_hi1) ((lo - o, o - hi) is (t_lo, -t_hi)·d exactly as rounded, rounding
+    // to nearest being symmetric), x2 = (t_lo2, -t_hi2); per axis (entry, -exit) =
+    // (min(t_lo, t_hi), min(-t_hi, -t_lo)), for axes 0 and 1 computed side by side as
+    // in01 and out01 and regrouped per axis (the same operations on the same operands as
+    // axis 2's min(x2, -swap(x2))).
     const D2 t_lo01 = (lo01 - o01) * L.inv01, t_hi01 = (o01 - hi01) * L.inv01;
-    const D2 x0 = lows(t_lo01, t_hi01), x1 = highs(t_lo01, t_hi01), x2 = (p2 - q2) * L.inv22;
-    const D2 values = (t_lo01 + t_hi01) + x2, sum = from_float ? values + (L.d01 + L.d22) : values,
-             probe = sum - sum;
-    L.V[0] = min(x0, -swap(x0));
-    L.V[1] = min(x1, -swap(x1));
+    const D2 x2 = (p2 - q2) * L.inv22;
+    const D2 in01 = min(t_lo01, -t_hi01), out01 = min(t_hi01, -t_lo01);
+    L.V[0] = lows(in01, out01);
+    L.V[1] = highs(in01, out01);
     L.V[2] = min(x2, -swap(x2));
+    // probe = s - s for s the sum of all six values (two per lane) and the directions'
+    // terms: 0 when s is finite, NaN when a term is infinite or NaN (or when finite terms
+    // overflow the sum, which only sends a valid query to the general path), so probe ==
+    // 0 implies every term finite. For double the terms 4·d_i (4·d_2 in both lanes) are
+    // infinite exactly when |d_i| >= 2^1022 (or d_i is infinite or NaN); for float every
+    // finite nonzero float has 1/d normal and finite, and d_i itself is the term (a zero
+    // d_i makes its slab values ±inf, or NaN where p - o is 0).
+    const D2 dterms = from_float ? L.d01 + L.d22 : L.d01 * splat(4.0) + L.d22 * splat(4.0);
+    const D2 sum = ((t_lo01 + t_hi01) + x2) + dterms, probe = sum - sum;
     // lo <= hi on the three axes (lane 1 of the axis-2 test is o2 <= o2, true for the
-    // finite values that pass the probe), and the limits: t_min <= t_max in both lanes
-    // (the same test), t_min != +inf in lane 0 and t_max != -inf in lane 1 (NaN fails
-    // both).
-    const M2 boxed = (lo01 <= hi01) & (p2 <= swap(q2));
-    const M2 limits = valid_range_lanes(L.limit);
-    const M2 checked = (probe == splat(0.0)) & boxed & limits;
-    L.usable = from_float ? checked : checked & d_in_range;
+    // finite values that pass the probe).
+    L.usable = (probe == splat(0.0)) & (lo01 <= hi01) & (p2 <= swap(q2));
     L.v01 = max(L.V[0], L.V[1]);
     L.f01 = min(L.V[0], L.V[1]);
     L.m = max(L.v01, L.V[2]);
@@ -307,15 +302,20 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     L.m_lo = L.m - bm;
     L.m_hi = L.m + bm;
     // The exact lane value (the latest entry, the negated earliest exit) lies in
-    // [max(limit, m_lo), max(limit, m_hi)]: every exact slab value lies below the
+    // [max(m_lo, limit), max(m_hi, limit)]: every exact slab value lies below the
     // upper bound of its computed one, and these bounds increase with the value, so
     // below m_hi; and the exact maximum is at least the exact value of m's own axis.
     // h: the entry's upper and the exit's lower bound, g: the bounds a miss is judged
-    // on. h0 < -h1 and h1 < -h0 are the same test, so comparing with -swap gives it in
-    // both lanes (and the same for g): these masks are all-ones or all-zeros.
-    const D2 h = max(L.limit, L.m_hi), g = max(L.limit, L.m_lo);
-    L.hit = h < -swap(h);
-    L.miss = g > -swap(g);
+    // on; a hit is certain when h0 < -h1, a miss when g0 > -g1. Both as the signs of
+    // the sums (h0 + h1, g0 + g1), in one addition: a sum of two doubles rounds to a
+    // value of its exact sign (0 only when it is 0, ±inf of its sign on overflow). h
+    // lies in (-inf, +inf] (m_hi is finite or +inf by overflow) and g in [-inf, +inf)
+    // on a valid range, so no sum is inf - inf then; max(m_hi, limit) is the limit when
+    // it is NaN, so a NaN limit makes its sum NaN, which decides nothing. Either verdict
+    // is taken only on a valid range (valid_range_lanes).
+    const D2 h = max(L.m_hi, L.limit), g = max(L.m_lo, L.limit);
+    const D2 sums = lows(h, g) + highs(h, g);
+    L.proven = (negate_lane1(sums) < splat(0.0)) & valid_range_lanes(L.limit);
     return L;
 }
 
@@ -323,11 +323,13 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
 // is certain when the latest entry's upper bound lies below the earliest exit's lower
 // bound, a miss when the latest entry's lower bound lies above the earliest exit's
 // upper bound; no winner is needed, and nothing is rounded. verdict_declined when the
-// general path must decide (see verdict_or, detail/slab_certified.hpp).
+// general path must decide (see verdict_or, detail/slab_certified.hpp). Both are never
+// proven at once (g <= h in each lane, and rounding is monotone).
 template <class T> RAYPROOF_ALWAYS_INLINE int aabb_verdict_common(const Ray<T>& r, const Aabb<T>& b) {
     using namespace lanes;
     const AabbLanes L = aabb_lanes(r, b);
-    return bits(L.usable & (L.miss | L.hit)) == 3 ? int(bits(L.hit) == 3) : verdict_declined;
+    const int proven = bits(L.proven);
+    return int(bits(L.usable) == 3) & int(proven != 0) ? proven & 1 : verdict_declined;
 }
 
 // The full query: the verdict above, then the winners' identity and their faithful
@@ -347,7 +349,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
     const D2 m2_hi = m2 + (abs(m2) * splat(K) + splat(eta));
     // Per lane: the axis certainly wins, or the limit certainly does.
     const M2 axis_wins = (m2_hi < m_lo) & (m_lo > limit), limit_wins = m_hi < limit;
-    const M2 hit = (axis_wins | limit_wins) & L.hit, miss = L.miss;
+    const M2 hit = (axis_wins | limit_wins) & both_lane0(L.proven), miss = both_lane1(L.proven);
     // The winners rounded faithfully, computed on every path (discarded when a limit
     // wins, or on a miss). Double input (float input below needs none of this): lane 0
     // the plane entered on axis w, lane 1 the plane left on axis v in the negated
@@ -360,7 +362,8 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
     // with fl(1/d) twice more: the correction is off by less than 2^-72|t|, so
     // RN(tt + correction) lies within 2^-19 of a gap from t: one of the two floats
     // enclosing t, and t itself when it is representable. This needs no overflow and no
-    // underflow: |d| in [2^-500, 2^500] and |t~| in [2^-400, 2^400] give |s| =
+    // underflow: the winner's |d| in [2^-500, 2^500] (checked here: the lanes only
+    // bound it by 2^1022) and |t~| in [2^-400, 2^400] give |s| =
     // |t~·d|(1 ± 2u) in [2^-901, 2^901] and every product and partial sum normal (or
     // zero); s == 0 gives the exact ±0.
     const int negative = bits(d01 < splat(0.0)) | (bits(d22 < splat(0.0)) & 1) << 2;  // bit i: d_i < 0
@@ -386,8 +389,9 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
                      p_out = neg_v ? double(b.lo[v]) : double(b.hi[v]);
         const SumOf<D2> se = two_sum(make(p_in, double(r.origin[v])), -make(double(r.origin[w]), p_out));
         tc = tt + ((se.hi - tt * dh) + (se.lo - tt * (dd - dh))) * make(inv[w], inv[v]);
-        const D2 am = abs(m);
-        const M2 rounded = limit_wins | ((am >= splat(0x1p-400)) & (am <= splat(0x1p400))) | (se.hi == splat(0.0));
+        const D2 am = abs(m), ad = abs(dd);
+        const M2 in_range = (am >= splat(0x1p-400)) & (am <= splat(0x1p400)) & (ad >= splat(0x1p-500)) & (ad <= splat(0x1p500));
+        const M2 rounded = limit_wins | in_range | (se.hi == splat(0.0));
         decided = miss | (hit & rounded);
     }
     // One branch on both lanes: a miss, or a hit decided and rounded in both.
