@@ -44,7 +44,8 @@ MUTATIONS=(
   "plane-pin-no-bound|ray_plane_fuzz|kernel/include/rayproof/detail/compensated.hpp|s/\(2 \* e \+ 0x1p-1020\)/(0 * e + 0x1p-1020)/|certified Plane: the straight-line path's proof that t lies next to its candidate without the residual's error bound"
   "sphere-verdict-no-margin|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/line_in = -D > E;/line_in = -D > 0;/|certified Sphere verdict filter taking the line inside the ball without the certificate's margin"
   "sphere-verdict-ends-no-bound|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/const M2 inside = v < -tq,/const M2 inside = v < splat(0.0) * tq,/|certified Sphere verdict filter taking an end of the range as inside the ball from the sign of q there, without its bound"
-  "plane-verdict-no-bound|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/const M2 holds = X >= E, fails = X < -E;/const M2 holds = X >= splat(0.0), fails = X < splat(0.0);/|certified Plane verdict filter deciding t against t_min and t_max without its error bound"
+  "plane-verdict-no-bound|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/E = Q \+ Q;/E = Q * splat(0.0);/|certified Plane verdict filter deciding t against t_min and t_max without its error bound"
+  "plane-verdict-overflow-holds|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/\(\(X >= E\) & finite\)/(X >= E)/|certified Plane verdict filter taking an overflowed limit·D~ (X~ = +inf for a finite limit) as proof that t lies inside the range"
   "sphere-tangent-miss|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/hit = sd >= 0;/hit = sd > 0;/|Sphere: an exactly tangent ray (zero discriminant) reported as a miss"
   "exact-two-sum-sign|ray_obb_fuzz|kernel/include/rayproof/detail/exact.hpp|s/return \{s, \(a - av\) \+ \(b - bv\)\};/return {s, (a - av) - (b - bv)};/|exact arithmetic: two_sum's error term with a wrong sign"
 )

@@ -2,9 +2,12 @@
 // has. Covers: a perpendicular crossing, a non-unit normal (same plane), an oblique
 // normal, a ray lying in the plane (hit on its whole range, t_min = -inf included), a
 // parallel ray off the plane, crossings exactly at t_min and t_max and one ulp outside,
-// a crossing behind the origin (miss, then hit with t_min = -inf).
+// a crossing behind the origin (miss, then hit with t_min = -inf); for double, the
+// certified verdict and full query where the limit times the computed denominator
+// overflows while the crossing lies a few percent from the limit (a miss and a hit).
 #include "unit_support.hpp"
 
+#include <cmath>
 #include <limits>
 
 using namespace rayproof;
@@ -49,4 +52,29 @@ TYPED_TEST(RayPlane, ClippingByTminTmax) {
     check(Ray<T>{o, d, 4, 4}, floor, hit<T>(4, 4));
     check(Ray<T>{o, d, 0, std::nextafter(T(4), T(0))}, floor, miss<T>());
     check(Ray<T>{o, d, std::nextafter(T(4), T(5)), 9}, floor, miss<T>());
+}
+
+// t_min·D~ overflows while t = N/D lies 2.6% beyond t_min (a miss) or 2.3% inside it (a
+// hit), with D = n·d computed with cancellation (terms 2^78, the sum about 9·2^26, 5%
+// off): the verdict filter's bound says nothing about an overflowed product, so neither
+// query may answer from it. Double only: float inputs cannot overflow a product in
+// double.
+TEST(RayPlaneExtreme, CertifiedWhenTheLimitTimesTheDenominatorOverflows) {
+    const double inf = std::numeric_limits<double>::infinity();
+    const double d_computed = std::ldexp(9.0, 26);                     // fl(fl(2^78 + d_1) - 2^78)
+    const double t_min = -1.01 * std::ldexp(1.0, 1024 - 26) / 9.0;     // |t_min|·D~ = 1.01·2^1024
+    const Plane<double> plane{v<double>(1, 1, 1), 0.97 * t_min * d_computed};  // N~/D~ = 0.97 t_min
+    for (const double d1 : {std::ldexp(9 - 0.49, 26), std::ldexp(9 + 0.49, 26)}) {
+        const Ray<double> ray{v<double>(0, 0, 0), Vec3<double>(std::ldexp(1.0, 78), d1, -std::ldexp(1.0, 78)), t_min, inf};
+        const double t = plane.offset / d1;  // N/D, within one rounding: far from the 2% margins
+        const bool inside = t >= t_min;
+        ASSERT_EQ(inside, d1 > d_computed) << repro(ray, plane);
+        const Verdict expect = inside ? Verdict::hit : Verdict::miss;
+        EXPECT_EQ(verdict(ray, plane, certified), expect) << repro(ray, plane);
+        const Hit<double> h = intersect(ray, plane, certified);
+        EXPECT_EQ(h.verdict, expect) << repro(ray, plane) << ' ' << h;
+        if (inside) {
+            EXPECT_TRUE(h.t_enter == h.t_exit && std::abs(h.t_enter - t) <= std::ldexp(std::abs(t), -50)) << h;
+        }
+    }
 }

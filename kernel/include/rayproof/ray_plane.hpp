@@ -139,24 +139,29 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, co
 // when |D~| > e_D, t = N/D lies in [t_min, t_max] iff A = sigma·N - t_min·|D| >= 0 and
 // C = t_max·|D| - sigma·N >= 0, in lanes 0 and 1. They are computed as X~ = sigma·Y~
 // with Y~ = fl((N~, -N~) + fl((-t_min, t_max)·D~)) (the sign bit of D~ moved onto Y~,
-// exactly); rounding to nearest being symmetric, X~ = fl(fl(±sigma·N~) ∓ fl(limit·|D~|))
-// and is within e_N + |limit|·e_D + u|limit·D~| + 2^-1075 + u(|N~| + |fl(limit·|D~|)|)·(1
-// + u) of A and C (the errors of N~ and D~, then one rounding for the product and one
-// for the difference); every term doubled, E = fl(2(e_N + |limit|·e_D) + 8u(|N~| + |P~|)
-// + 2eta) with P~ = fl(limit·D~) bounds that with room for the five roundings of E
-// itself (each loses at most a factor 1 - u, and (1 - u)^5 > 1/2). So X~ >= E proves
-// the condition and X~ < -E disproves it. An infinite limit (t_min = -inf, t_max =
-// +inf) holds by itself, and this test says so: P~ is infinite, with the sign that
-// makes X~ = +inf (N~ finite), and E = +inf (e_D > 0), so X~ >= E. Validity comes with the verdict: e finite means every number
-// but t_min and t_max is finite (an infinite or NaN input makes S~ infinite or NaN), a
-// certain sign of D means n != 0 and d != 0, and the limits are checked in the lanes
-// as the Aabb's are: (t_min, -t_max) below +inf and t_min <= t_max (NaN fails both).
+// exactly); rounding to nearest being symmetric, X~ = fl(fl(±sigma·N~) ∓ fl(limit·|D~|)),
+// and for a finite X~ it is within
+//     e_N + |limit|·e_D + 2u|P~| + u|N~| + 2^-1075
+// of A and C, P~ = fl(limit·D~) (the errors of N~ and D~, then one rounding for the
+// product, one for the sum, 2^-1075 for a product in the subnormal range). |N~| <= S~_N
+// and |D~| <= S~_D (the same sums of the absolute values, rounded alike: rounding is
+// monotone and symmetric), and e >= K(1 - u)·S~ with K = 8u/(1 - 4u), so u|N~| <
+// e_N/7, 2u|P~| <= 2u(1 + u)|limit|·S~_D < |limit|·e_D/3 and 2^-1075 < 2^-52·e_N: the
+// error is below 1.5(e_N + |limit|·e_D) <= E = 2·fl(e_N + fl(|limit|·e_D)) (two
+// roundings, the product's underflow far below e_N, the doubling exact). So X~ >= E proves the condition and X~ < -E
+// disproves it. Only for a finite X~: an infinite one from a finite limit is an
+// overflow (of the product or of the sum), which bounds nothing (A can have either
+// sign then), and decides nothing. An infinite limit (t_min = -inf, t_max = +inf) holds
+// by itself (D != 0), and is taken as holding. Validity comes with the verdict: e
+// finite means every number but t_min and t_max is finite (an infinite or NaN input
+// makes S~ infinite or NaN), a certain sign of D means n != 0 and d != 0, and the
+// limits are checked in the lanes as the Aabb's are (valid_range_lanes).
 // verdict_declined when the filter cannot decide (D too close to 0, extreme exponents
-// that overflow S~, a crossing within the bounds of a limit), else int(Verdict::miss)
-// or int(Verdict::hit).
+// that overflow S~ or X~, a crossing within the bounds of a limit), else
+// int(Verdict::miss) or int(Verdict::hit).
 template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>& r, const Plane<T>& p) {
     using namespace lanes;
-    constexpr double u = 0x1p-53, K = 2 * gamma<double>(4), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
+    constexpr double K = 2 * gamma<double>(4), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
     // The inputs as pairs of doubles (for float, from whole loads of the ray and the
     // plane: lanes::float_quad).
     double f;
@@ -177,10 +182,11 @@ template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>&
     const D2 sum = ((make(-f, 0.0) + x0) + x1) + x2, mag = ((make(std::abs(f), 0.0) + abs(x0)) + abs(x1)) + abs(x2);
     const D2 e = mag * splat(K) + splat(eta), ND = negate_lane0(sum);  // (N~, D~)
     const D2 Ns = splat(lane0(ND)), Ds = splat(lane1(ND)), eN = splat(lane0(e)), eD = splat(lane1(e));
-    const D2 P = negate_lane0(limit) * Ds;
-    const D2 X = times_sign(negate_lane1(Ns) + P, Ds);
-    const D2 E = (eN + abs(limit) * eD) * splat(2.0) + (abs(Ns) + abs(P)) * splat(8 * u) + splat(2 * eta);
-    const M2 holds = X >= E, fails = X < -E;
+    const D2 lim = negate_lane0(limit);  // (-t_min, t_max)
+    const D2 X = times_sign(negate_lane1(Ns) + lim * Ds, Ds);
+    const D2 Q = eN + abs(limit) * eD, E = Q + Q;
+    const M2 finite = abs(X) < splat(inf);
+    const M2 holds = ((X >= E) & finite) | (lim == splat(inf)), fails = (X < -E) & finite;
     const D2 ordered = negate_lane1(limit);  // (t_min, -t_max)
     const M2 valid_all = (e < splat(inf)) & valid_range_lanes(ordered);
     const bool usable = int(bits(valid_all) == 3) & (bits(abs(ND) > e) >> 1);

@@ -19,7 +19,8 @@
 //   on_boundary   origins exactly on faces, edges, corners, the sphere, the plane; t_min
 //                 or t_max exactly at the entry
 //   extreme       tiny shapes far away, huge shapes, denormal-sized shapes, nearly
-//                 parallel planes, nearly dependent Obb axes
+//                 parallel planes, a plane crossing near the top of the range next to
+//                 a limit, nearly dependent Obb axes
 //   rotated_integer (Obb) integer, non-normalized, rotated or sheared axes
 //   invalid       one invalid input class of the contract per case, every class drawn
 #pragma once

@@ -144,12 +144,15 @@ template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
 
 // Extreme scenes: nearly parallel rays (d rounded into the plane, so n·d is a few
 // roundings from 0), a plane far from the origin, a denormal-sized normal, a huge
-// normal and direction whose dot product overflows T.
+// normal and direction whose dot product overflows T, and a crossing near the top of
+// the range with a limit a few percent from it, n·d computed with cancellation (terms
+// 2^(p+25), the sum a few ulps of them, up to half an ulp off) so that for double the
+// limit times the computed n·d overflows.
 template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
     using L = std::numeric_limits<T>;
     Case<T, Plane<T>> c = plane_general<T>(rng);
     c.generator = "extreme";
-    const auto kind = below(rng, 4);
+    const auto kind = below(rng, 5);
     if (kind == 0) {  // nearly parallel
         const Vec3<T> w = nonzero_vec<T>(rng, [](Rng& g) { return uniform<T>(g, -1, 1); });
         c.ray.direction = c.shape.normal.cross(w);
@@ -168,13 +171,28 @@ template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
         for (int i = 0; i < 3; ++i)
             c.shape.normal[i] = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent);
         c.shape.offset = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent + 8);
-    } else {  // huge normal and direction
+    } else if (kind == 3) {  // huge normal and direction
         for (int i = 0; i < 3; ++i) {
             c.shape.normal[i] = magnitude<T>(rng, L::max_exponent / 2, L::max_exponent - 1);
             c.ray.direction[i] = magnitude<T>(rng, L::max_exponent / 2, L::max_exponent - 1);
             c.ray.origin[i] = wide_value<T>(rng);
         }
         c.shape.offset = wide_value<T>(rng);
+    } else {  // a far crossing next to a limit, n·d with cancellation
+        const T s = T(random_sign(rng)), big = std::ldexp(T(1), kPrecision<T> + 25);  // its ulp: 2^26
+        const T x = std::ldexp(uniform<T>(rng, 8.5, 12.5), 26);
+        c.shape.normal = Vec3<T>(s, s, s);
+        c.ray.origin = Vec3<T>(0, 0, 0);
+        c.ray.direction = Vec3<T>(big, x, -big);
+        c.shape.offset = T(random_sign(rng)) * uniform<T>(rng, 0.9, 1.0) * L::max();
+        const T limit = T(double(c.shape.offset) / (double(s) * double(x)) * uniform<double>(rng, 0.95, 1.05));
+        if (chance(rng, 1, 2)) {
+            c.ray.t_min = limit;
+            c.ray.t_max = kInf<T>;
+        } else {
+            c.ray.t_min = -kInf<T>;
+            c.ray.t_max = limit;
+        }
     }
     return c;
 }
