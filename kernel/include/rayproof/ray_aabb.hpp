@@ -286,10 +286,11 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     // probe = s - s for s the sum of all six values (two per lane) and the directions'
     // terms: 0 when s is finite, NaN when a term is infinite or NaN (or when finite terms
     // overflow the sum, which only sends a valid query to the general path), so probe ==
-    // 0 implies every term finite. For double the terms 4·d_i (4·d_2 in both lanes) are
-    // infinite exactly when |d_i| >= 2^1022 (or d_i is infinite or NaN); for float every
-    // finite nonzero float has 1/d normal and finite, and d_i itself is the term (a zero
-    // d_i makes its slab values ±inf, or NaN where p - o is 0).
+    // 0 implies every term finite. The directions need terms of their own: an infinite
+    // d_i has 1/d_i = ±0 and finite slab values. For double the terms 4·d_i (4·d_2 in
+    // both lanes) are infinite or NaN exactly when |d_i| >= 2^1022 or d_i is NaN; for
+    // float every finite nonzero float has 1/d normal and finite, and d_i itself is the
+    // term. A zero d_i makes its slab values ±inf, or NaN where p - o is 0.
     const D2 dterms = from_float ? L.d01 + L.d22 : L.d01 * splat(4.0) + L.d22 * splat(4.0);
     const D2 sum = ((t_lo01 + t_hi01) + x2) + dterms, probe = sum - sum;
     // lo <= hi on the three axes (lane 1 of the axis-2 test is o2 <= o2, true for the
