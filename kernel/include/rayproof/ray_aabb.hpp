@@ -391,7 +391,8 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
         const SumOf<D2> se = two_sum(make(p_in, double(r.origin[v])), -make(double(r.origin[w]), p_out));
         tc = tt + ((se.hi - tt * dh) + (se.lo - tt * (dd - dh))) * make(inv[w], inv[v]);
         const D2 am = abs(m), ad = abs(dd);
-        const M2 in_range = (am >= splat(0x1p-400)) & (am <= splat(0x1p400)) & (ad >= splat(0x1p-500)) & (ad <= splat(0x1p500));
+        const M2 in_range =
+            (am >= splat(0x1p-400)) & (am <= splat(0x1p400)) & (ad >= splat(0x1p-500)) & (ad <= splat(0x1p500));
         const M2 rounded = limit_wins | in_range | (se.hi == splat(0.0));
         decided = miss | (hit & rounded);
     }

@@ -148,10 +148,10 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, co
 // monotone and symmetric), and e >= K(1 - u)·S~ with K = 8u/(1 - 4u), so u|N~| <
 // e_N/7, 2u|P~| <= 2u(1 + u)|limit|·S~_D < |limit|·e_D/3 and 2^-1075 < 2^-52·e_N: the
 // error is below 1.5(e_N + |limit|·e_D) <= E = 2·fl(e_N + fl(|limit|·e_D)) (two
-// roundings, the product's underflow far below e_N, the doubling exact). So X~ >= E proves the condition and X~ < -E
-// disproves it. Only for a finite X~: an infinite one from a finite limit is an
-// overflow (of the product or of the sum), which bounds nothing (A can have either
-// sign then), and decides nothing. An infinite limit (t_min = -inf, t_max = +inf) holds
+// roundings, the product's underflow far below e_N, the doubling exact). So X~ >= E
+// proves the condition and X~ < -E disproves it. Only for a finite X~: an infinite one
+// from a finite limit is an overflow (of the product or of the sum), which bounds
+// nothing (A can have either sign then), and decides nothing. An infinite limit (t_min = -inf, t_max = +inf) holds
 // by itself (D != 0), and is taken as holding. Validity comes with the verdict: e
 // finite means every number but t_min and t_max is finite (an infinite or NaN input
 // makes S~ infinite or NaN), a certain sign of D means n != 0 and d != 0, and the
