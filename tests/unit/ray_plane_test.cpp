@@ -73,7 +73,7 @@ TEST(RayPlaneExtreme, CertifiedWhenTheLimitTimesTheDenominatorOverflows) {
         EXPECT_EQ(verdict(ray, plane, certified), expect) << repro(ray, plane);
         const Hit<double> h = intersect(ray, plane, certified);
         EXPECT_EQ(h.verdict, expect) << repro(ray, plane) << ' ' << h;
-        if (inside) {
+        if (inside) {  // t is within u|t| of N/D and a faithful t_enter within 2u|t|: 3u < 2^-50
             EXPECT_TRUE(h.t_enter == h.t_exit && std::abs(h.t_enter - t) <= std::ldexp(std::abs(t), -50)) << h;
         }
     }
