@@ -1,5 +1,5 @@
 // exact_number.hpp — internal to the oracle library: the exact number type and the
-// representation behind ExactValue. Only the library's two sources include it.
+// representation behind ExactValue. Only the library's own files include it.
 //
 // Q is CGAL::Gmpq, CGAL's own reference-counted wrapper of GMP's mpq_t: it needs the C
 // GMP library only (no gmpxx), so the oracle also builds where the C++ GMP wrapper is

@@ -3,19 +3,12 @@
 // only to guess a float near an exact value, and every guess is then settled by exact
 // comparisons.
 //
-// How each answer is decided (the contract's definitions, literally):
-//   Aabb  per axis, the slab lo_i <= o_i + t·d_i <= hi_i: for d_i != 0 the exact rationals
-//         (lo_i - o_i)/d_i and (hi_i - o_i)/d_i; for d_i == 0 the test lo_i <= o_i <= hi_i.
-//         t_enter = max(t_min, entries), t_exit = min(t_max, exits), hit iff t_enter <=
-//         t_exit. The face is the axis of the largest entry that is strictly above t_min,
-//         the lowest axis on ties (strict comparisons in axis order), else -1.
-//   Obb   the same slab clipping in the box frame, with the exact rationals
-//         o'_i = (o - c)·a_i, d'_i = d·a_i and the slab [-h_i, h_i], a_i the stored columns.
-//   Plane den = n·d, num = offset - n·o exactly; den == 0: the whole range when num == 0,
-//         otherwise a miss; else t = num/den, a hit iff t_min <= t <= t_max.
-//   Sphere with Δ = o - c: a = d·d, b = d·Δ, c = Δ·Δ - r², D = b² - a·c (exact). D < 0:
-//         miss. Otherwise the roots -b/a ∓ sqrt(D/a²) are kept symbolically (rational when
-//         D/a² is a square), and every comparison with them is exact (see sign_minus).
+// This is the oracle's one CGAL translation unit. It holds what the shapes share: exact
+// values (roots, comparisons, faithful brackets), the validity rules, the judge and the
+// printing, and it instantiates exact() for float and double. Each shape's exact answer,
+// with how it is decided (the contract's definitions, literally), is in its own file
+// found by the shape's name stem: ray_aabb_oracle.hpp, ray_obb_oracle.hpp,
+// ray_plane_oracle.hpp, ray_sphere_oracle.hpp (their shared parts: exact_answer.hpp).
 #include "exact_number.hpp"
 
 #include <rayproof/io.hpp>
@@ -293,137 +286,18 @@ template <class T> bool valid(const Obb<T>& b) {
     return CGAL::sign(det) != CGAL::ZERO;
 }
 
+}  // namespace rayproof::oracle
+
 // =====================================================================================
-// Exact answers
+// Exact answers: one file per shape, included after the validity rules they call
 // =====================================================================================
 
-namespace {
+#include "ray_aabb_oracle.hpp"
+#include "ray_obb_oracle.hpp"
+#include "ray_plane_oracle.hpp"
+#include "ray_sphere_oracle.hpp"
 
-// An extended rational: -inf, +inf or a rational (t_min and t_max may be infinite).
-struct XQ {
-    int inf = 0;  // -1, +1, or 0 for the rational q
-    Q q{0};
-};
-template <class T> XQ xq(T t) {
-    if (std::isinf(t)) return {t < 0 ? -1 : 1, Q{0}};
-    return {0, to_q(t)};
-}
-int cmp(const XQ& a, const XQ& b) {
-    if (a.inf != 0 || b.inf != 0) return a.inf == b.inf ? 0 : (a.inf < b.inf ? -1 : 1);
-    return int(CGAL::compare(a.q, b.q));
-}
-ExactValue value_of(const XQ& x) { return x.inf ? internal::make_infinite(x.inf) : internal::make_rational(x.q); }
-
-template <class T> Exact<T> invalid_answer() {
-    Exact<T> e;
-    e.verdict = Verdict::invalid;
-    return e;
-}
-
-// The slab clipping of o + t·d against lo <= p <= hi (all exact), on [t_min, t_max].
-template <class T> Exact<T> clip_slabs(const std::array<Q, 3>& o, const std::array<Q, 3>& d, const std::array<Q, 3>& lo,
-                                       const std::array<Q, 3>& hi, T t_min, T t_max) {
-    Exact<T> e;
-    XQ enter = xq(t_min), exit = xq(t_max);
-    int face = -1;
-    for (int i = 0; i < 3; ++i) {
-        const CGAL::Sign sd = CGAL::sign(d[i]);
-        if (sd == CGAL::ZERO) {
-            if (o[i] < lo[i] || hi[i] < o[i]) return e;  // parallel, outside the slab: miss
-            continue;
-        }
-        const Q t_lo = (lo[i] - o[i]) / d[i];
-        const Q t_hi = (hi[i] - o[i]) / d[i];
-        const bool neg = sd == CGAL::NEGATIVE;
-        const XQ in{0, neg ? t_hi : t_lo}, out{0, neg ? t_lo : t_hi};
-        if (cmp(in, enter) > 0) {  // strict: t_min and lower axes win ties
-            enter = in;
-            face = 2 * i + (neg ? 1 : 0);
-        }
-        if (cmp(out, exit) < 0) exit = out;
-    }
-    if (cmp(enter, exit) > 0) return e;
-    e.verdict = Verdict::hit;
-    e.t_enter = value_of(enter);
-    e.t_exit = value_of(exit);
-    e.face = face;
-    return e;
-}
-
-template <class T> std::array<Q, 3> q3(const Vec3<T>& v) { return {to_q(v[0]), to_q(v[1]), to_q(v[2])}; }
-
-}  // namespace
-
-template <class T> Exact<T> exact(const Ray<T>& ray, const Aabb<T>& box) {
-    if (!valid(ray) || !valid(box)) return invalid_answer<T>();
-    return clip_slabs(q3(ray.origin), q3(ray.direction), q3(box.lo), q3(box.hi), ray.t_min, ray.t_max);
-}
-
-template <class T> Exact<T> exact(const Ray<T>& ray, const Obb<T>& box) {
-    if (!valid(ray) || !valid(box)) return invalid_answer<T>();
-    const std::array<Q, 3> o = q3(ray.origin), d = q3(ray.direction), c = q3(box.center);
-    const std::array<Q, 3> rel = {o[0] - c[0], o[1] - c[1], o[2] - c[2]};
-    std::array<Q, 3> ol, dl, lo, hi;
-    for (int i = 0; i < 3; ++i) {
-        const std::array<Q, 3> a = q3(Vec3<T>(box.axes.col(i)));
-        ol[i] = rel[0] * a[0] + rel[1] * a[1] + rel[2] * a[2];
-        dl[i] = d[0] * a[0] + d[1] * a[1] + d[2] * a[2];
-        hi[i] = to_q(box.half_extent[i]);
-        lo[i] = -hi[i];
-    }
-    return clip_slabs(ol, dl, lo, hi, ray.t_min, ray.t_max);
-}
-
-template <class T> Exact<T> exact(const Ray<T>& ray, const Plane<T>& plane) {
-    if (!valid(ray) || !valid(plane)) return invalid_answer<T>();
-    const std::array<Q, 3> o = q3(ray.origin), d = q3(ray.direction), n = q3(plane.normal);
-    const Q den = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
-    const Q num = to_q(plane.offset) - (n[0] * o[0] + n[1] * o[1] + n[2] * o[2]);
-    Exact<T> e;
-    if (CGAL::sign(den) == CGAL::ZERO) {
-        if (CGAL::sign(num) != CGAL::ZERO) return e;  // parallel, off the plane
-        e.verdict = Verdict::hit;                     // lying in the plane: the whole range
-        e.t_enter = value_of(xq(ray.t_min));
-        e.t_exit = value_of(xq(ray.t_max));
-        return e;
-    }
-    const XQ t{0, num / den};
-    if (cmp(xq(ray.t_min), t) > 0 || cmp(t, xq(ray.t_max)) > 0) return e;
-    e.verdict = Verdict::hit;
-    e.t_enter = e.t_exit = value_of(t);
-    return e;
-}
-
-template <class T> Exact<T> exact(const Ray<T>& ray, const Sphere<T>& sphere) {
-    if (!valid(ray) || !valid(sphere)) return invalid_answer<T>();
-    const std::array<Q, 3> o = q3(ray.origin), d = q3(ray.direction), c = q3(sphere.center);
-    const std::array<Q, 3> delta = {o[0] - c[0], o[1] - c[1], o[2] - c[2]};
-    const Q r = to_q(sphere.radius);
-    const Q a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    const Q b = d[0] * delta[0] + d[1] * delta[1] + d[2] * delta[2];
-    const Q cc = delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2] - r * r;
-    const Q disc = b * b - a * cc;
-    Exact<T> e;
-    if (CGAL::sign(disc) == CGAL::NEGATIVE) return e;
-    // Roots -b/a ∓ sqrt(disc/a²).
-    const Q p = -b / a;
-    const Q rr = disc / (a * a);
-    const ExactValue t0 = internal::make_root(p, rr, -1), t1 = internal::make_root(p, rr, +1);
-    // Hit iff t0 <= t_max and t_min <= t1.
-    const auto below_or_at = [](const ExactValue& v, T t) {  // v <= t
-        if (std::isinf(t)) return t > 0;
-        return internal::sign_minus(*v.impl(), to_q(t)) <= 0;
-    };
-    const auto above_or_at = [](const ExactValue& v, T t) {  // v >= t
-        if (std::isinf(t)) return t < 0;
-        return internal::sign_minus(*v.impl(), to_q(t)) >= 0;
-    };
-    if (!below_or_at(t0, ray.t_max) || !above_or_at(t1, ray.t_min)) return e;
-    e.verdict = Verdict::hit;
-    e.t_enter = above_or_at(t0, ray.t_min) ? t0 : value_of(xq(ray.t_min));
-    e.t_exit = below_or_at(t1, ray.t_max) ? t1 : value_of(xq(ray.t_max));
-    return e;
-}
+namespace rayproof::oracle {
 
 #define RAYPROOF_ORACLE_INSTANTIATE(T)                                      \
     template bool valid<T>(const Ray<T>&);                                  \
