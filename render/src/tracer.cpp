@@ -22,10 +22,6 @@ namespace {
 using Rayd = Ray<double>;
 using Hitd = Hit<double>;
 
-template <class M>
-constexpr bool mode_ready = Answerable<double, Sphere<double>, M> && Answerable<double, Aabb<double>, M> &&
-                            Answerable<double, Obb<double>, M> && Answerable<double, Plane<double>, M>;
-
 constexpr double inf = std::numeric_limits<double>::infinity();
 
 double max3(const Color& c) { return c.maxCoeff(); }
@@ -448,10 +444,6 @@ std::optional<Mode> parse_mode(std::string_view name) {
     return std::nullopt;
 }
 
-bool mode_available(Mode m) {
-    return with_mode(m, [](auto tag) { return mode_ready<decltype(tag)>; });
-}
-
 Ray<double> camera_ray(const Camera& cam, int width, int height, double px, double py) {
     const Vec3d f = (cam.look_at - cam.position).normalized();
     const Vec3d r = f.cross(cam.up).normalized();
@@ -486,31 +478,16 @@ std::optional<Vec3d> refract(const Vec3d& u, const Vec3d& n, double eta) {
 }
 
 RenderResult render(const Scene& scene, const RenderOptions& options) {
-    return with_mode(scene.settings.mode, [&](auto tag) -> RenderResult {
-        using M = decltype(tag);
-        if constexpr (mode_ready<M>) {
-            return render_in<M>(scene, options);
-        } else {
-            RenderResult r;
-            r.error = std::string("mode '") + mode_name(scene.settings.mode) +
-                      "' is not available in this build of the kernel";
-            return r;
-        }
-    });
+    return with_mode(scene.settings.mode, [&](auto tag) { return render_in<decltype(tag)>(scene, options); });
 }
 
 std::optional<Color> radiance(const Scene& scene, double px, double py, const TraceOptions& options, Stats* stats) {
     return with_mode(scene.settings.mode, [&](auto tag) -> std::optional<Color> {
-        using M = decltype(tag);
-        if constexpr (mode_ready<M>) {
-            Stats local;
-            Stats& st = stats ? *stats : local;
-            Tracer<M> tr(scene, options, st);
-            ++st.primary;
-            return tr.trace(camera_ray(scene.camera, scene.settings.width, scene.settings.height, px, py), 1, 1.0);
-        } else {
-            return std::nullopt;
-        }
+        Stats local;
+        Stats& st = stats ? *stats : local;
+        Tracer<decltype(tag)> tr(scene, options, st);
+        ++st.primary;
+        return tr.trace(camera_ray(scene.camera, scene.settings.width, scene.settings.height, px, py), 1, 1.0);
     });
 }
 
