@@ -47,7 +47,7 @@ struct Options {
 Options& options();
 
 // Parses and removes --cases=N --cgal_cases=N --batch_max=N --seed=S --watchdog=SECONDS from argv (after
-// benchmark::Initialize has taken its own flags); false on an unknown argument.
+// benchmark::Initialize has taken its own flags; flags.hpp); false when --cases or --batch_max is 0.
 bool parse_options(int& argc, char** argv);
 
 template <class T, class Shape> std::string bench_name(const char* kind, std::string_view a, std::string_view b) {

@@ -3,10 +3,8 @@
 //   rayproof_bench [benchmark flags] [--cases=N] [--cgal_cases=N] [--batch_max=N] [--seed=S]
 //                  [--watchdog=SECONDS]
 #include "bench_common.hpp"
+#include "flags.hpp"
 
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <string>
 
 namespace rayproof::bench {
@@ -17,30 +15,13 @@ Options& options() {
 }
 
 bool parse_options(int& argc, char** argv) {
-    int kept = 1;
-    for (int i = 1; i < argc; ++i) {
-        const char* a = argv[i];
-        auto value = [&](const char* flag) -> const char* {
-            const std::size_t n = std::strlen(flag);
-            return std::strncmp(a, flag, n) == 0 && a[n] == '=' ? a + n + 1 : nullptr;
-        };
-        if (const char* v = value("--cases")) {
-            options().cases = std::strtoull(v, nullptr, 10);
-        } else if (const char* v = value("--cgal_cases")) {
-            options().cgal_cases = std::strtoull(v, nullptr, 10);
-        } else if (const char* v = value("--batch_max")) {
-            options().batch_max = std::strtoull(v, nullptr, 10);
-        } else if (const char* v = value("--watchdog")) {
-            options().watchdog = std::strtod(v, nullptr);
-        } else if (const char* v = value("--seed")) {
-            options().seed = std::strtoull(v, nullptr, 0);
-        } else {
-            argv[kept++] = argv[i];
-        }
-    }
-    argc = kept;
-    if (options().cases == 0 || options().batch_max == 0) return false;
-    options().cgal_cases = std::min(options().cgal_cases, options().cases);
+    Options& o = options();
+    take_flags(argc, argv,
+               {count_flag("--cases", o.cases), count_flag("--cgal_cases", o.cgal_cases),
+                count_flag("--batch_max", o.batch_max), seconds_flag("--watchdog", o.watchdog),
+                seed_flag("--seed", o.seed)});
+    if (o.cases == 0 || o.batch_max == 0) return false;
+    o.cgal_cases = std::min(o.cgal_cases, o.cases);
     return true;
 }
 
@@ -49,12 +30,10 @@ bool parse_options(int& argc, char** argv) {
 int main(int argc, char** argv) {
     using namespace rayproof::bench;
     benchmark::Initialize(&argc, argv);
-    if (!parse_options(argc, argv) || benchmark::ReportUnrecognizedArguments(argc, argv)) {
-        std::fprintf(stderr, "usage: %s [benchmark flags] [--cases=N] [--cgal_cases=N] [--batch_max=N] [--seed=S]\n"
-                     "       [--watchdog=SECONDS]  (the deadline of each method's untimed check pass; 0: none)\n",
-                     argv[0]);
-        return 2;
-    }
+    if (!parse_options(argc, argv) || benchmark::ReportUnrecognizedArguments(argc, argv))
+        return usage_error(argv[0],
+                           "[--cases=N] [--cgal_cases=N] [--batch_max=N] [--seed=S]\n"
+                           "       [--watchdog=SECONDS]  (the deadline of each method's untimed check pass; 0: none)\n");
     benchmark::AddCustomContext("cases", std::to_string(options().cases));
     benchmark::AddCustomContext("cgal_cases", std::to_string(options().cgal_cases));
     benchmark::AddCustomContext("seed", std::to_string(options().seed));

@@ -12,14 +12,12 @@
 // the first `cases` cases.
 //   rayproof_bench_counters [benchmark flags] [--cases=N] [--count_cases=N]
 //                           [--count_cases_uniform=N] [--seed=S] [--watchdog=SECONDS]
+#include "flags.hpp"
 #include "watchdog.hpp"
 #include "workloads.hpp"
 
 #include <benchmark/benchmark.h>
 
-#include <cstdio>
-#include <cstdlib>
-#include <cstring>
 #include <map>
 #include <string>
 #include <vector>
@@ -106,27 +104,10 @@ template <class T, class Shape> void register_all() {
 }
 
 bool parse(int& argc, char** argv) {
-    int kept = 1;
-    for (int i = 1; i < argc; ++i) {
-        const char* a = argv[i];
-        auto value = [&](const char* flag) -> const char* {
-            const std::size_t n = std::strlen(flag);
-            return std::strncmp(a, flag, n) == 0 && a[n] == '=' ? a + n + 1 : nullptr;
-        };
-        if (const char* v = value("--cases"))
-            opts.cases = std::strtoull(v, nullptr, 10);
-        else if (const char* v = value("--count_cases"))
-            opts.count_cases = std::strtoull(v, nullptr, 10);
-        else if (const char* v = value("--count_cases_uniform"))
-            opts.count_cases_uniform = std::strtoull(v, nullptr, 10);
-        else if (const char* v = value("--watchdog"))
-            opts.watchdog = std::strtod(v, nullptr);
-        else if (const char* v = value("--seed"))
-            opts.seed = std::strtoull(v, nullptr, 0);
-        else
-            argv[kept++] = argv[i];
-    }
-    argc = kept;
+    take_flags(argc, argv,
+               {count_flag("--cases", opts.cases), count_flag("--count_cases", opts.count_cases),
+                count_flag("--count_cases_uniform", opts.count_cases_uniform),
+                seconds_flag("--watchdog", opts.watchdog), seed_flag("--seed", opts.seed)});
     return opts.cases > 0;
 }
 
@@ -137,13 +118,9 @@ int main(int argc, char** argv) {
     using namespace rayproof;
     using namespace rayproof::bench;
     benchmark::Initialize(&argc, argv);
-    if (!parse(argc, argv) || benchmark::ReportUnrecognizedArguments(argc, argv)) {
-        std::fprintf(stderr,
-                     "usage: %s [benchmark flags] [--cases=N] [--count_cases=N] [--count_cases_uniform=N] [--seed=S]\n"
-                     "       [--watchdog=SECONDS]\n",
-                     argv[0]);
-        return 2;
-    }
+    if (!parse(argc, argv) || benchmark::ReportUnrecognizedArguments(argc, argv))
+        return usage_error(argv[0], "[--cases=N] [--count_cases=N] [--count_cases_uniform=N] [--seed=S]\n"
+                                    "       [--watchdog=SECONDS]\n");
     benchmark::AddCustomContext("seed", std::to_string(opts.seed));
     register_all<double, Aabb<double>>();
     register_all<float, Aabb<float>>();

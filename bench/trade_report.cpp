@@ -18,18 +18,25 @@
 // the spread is the coefficient of variation over repetitions. certified / fast and
 // Epeck / certified verdict are also measured in pairs (bench_common.hpp, time_pair:
 // the median over back-to-back pairs of passes of the ratio), which the checks use.
+//
+// The acceptance targets are the table kTargets below; the report's sentences are the
+// sections of trade_report.md.in, built into the program (trade_report_template.hpp).
+#include "trade_report_template.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <map>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace {
@@ -70,6 +77,56 @@ std::vector<std::string> split(const std::string& s, char sep) {
     return out;
 }
 
+// ---- the prose ----------------------------------------------------------------------
+// trade_report.md.in: sections "%% NAME" whose lines are joined with newlines, with
+// {{name}} placeholders; see the head of that file.
+using Vars = std::map<std::string, std::string, std::less<>>;
+
+class Template {
+public:
+    explicit Template(std::string_view text) {
+        std::istringstream in{std::string(text)};
+        std::string line, name;
+        std::optional<std::string> body;
+        while (std::getline(in, line)) {
+            if (line.rfind("%% ", 0) == 0) {
+                if (body) sections_[name] = *body;
+                name = line.substr(3);
+                body.reset();
+            } else if (!name.empty()) {
+                body = body ? *body + '\n' + line : line;
+            }
+        }
+        if (!name.empty()) sections_[name] = body.value_or("");
+    }
+
+    // Section `name` with every {{key}} replaced by vars[key].
+    std::string operator()(std::string_view name, const Vars& vars = {}) const {
+        const auto it = sections_.find(name);
+        if (it == sections_.end()) throw std::logic_error("trade_report: no section " + std::string(name));
+        const std::string& s = it->second;
+        std::string out;
+        std::size_t at = 0;
+        for (std::size_t open; (open = s.find("{{", at)) != std::string::npos;) {
+            const std::size_t close = s.find("}}", open);
+            const auto v = vars.find(std::string_view(s).substr(open + 2, close - open - 2));
+            if (close == std::string::npos || v == vars.end())
+                throw std::logic_error("trade_report: section " + std::string(name) + " has an unfilled placeholder");
+            out += s.substr(at, open - at) + v->second;
+            at = close + 2;
+        }
+        return out + s.substr(at);
+    }
+
+private:
+    std::map<std::string, std::string, std::less<>> sections_;
+};
+
+const Template& prose() {
+    static const Template t(rayproof::bench::trade_report_template);
+    return t;
+}
+
 // ---- timings ----------------------------------------------------------------------
 struct Timing {
     double ns = NAN;     // per query / per ray
@@ -86,25 +143,42 @@ double to_ns(double t, const std::string& unit) {
     return t;
 }
 
-// name -> timing; per item (query or ray).
-std::map<std::string, Timing> read_bench(const std::string& path, std::map<std::string, double>* rates,
-                                         json* context) {
-    std::map<std::string, Timing> out;
+std::optional<json> read_json(const std::string& path) {
     std::ifstream in(path);
     if (!in) {
         std::cerr << "trade_report: cannot read " << path << '\n';
-        return out;
+        return std::nullopt;
     }
     json j;
     try {
         in >> j;
     } catch (const std::exception& e) {
         std::cerr << "trade_report: " << path << ": " << e.what() << '\n';
-        return out;
+        return std::nullopt;
     }
-    if (context && j.contains("context")) *context = j["context"];
+    return j;
+}
+
+// One benchmark's entry (its median, or its only run); cv: its spread entry, if any.
+Timing timing_of(const json& b, const json* cv) {
+    Timing t;
+    t.cases = b.contains("cases") ? b["cases"].get<double>() : b.contains("rays") ? b["rays"].get<double>() : 1.0;
+    t.ns = to_ns(b["cpu_time"].get<double>(), b.value("time_unit", "ns")) / t.cases;
+    if (b.contains("hit_rate")) t.hit_rate = b["hit_rate"].get<double>();
+    if (b.contains("ratio")) t.ratio = b["ratio"].get<double>();
+    if (cv) t.cv = (*cv)["cpu_time"].get<double>();
+    return t;
+}
+
+// name -> timing; per item (query or ray). rates: the exact-stage counters, if wanted.
+std::map<std::string, Timing> read_bench(const std::string& path, std::map<std::string, double>* rates,
+                                         json* context) {
+    std::map<std::string, Timing> out;
+    const std::optional<json> j = read_json(path);
+    if (!j) return out;
+    if (context && j->contains("context")) *context = (*j)["context"];
     std::map<std::string, json> median, cv, single;
-    for (const auto& b : j["benchmarks"]) {
+    for (const auto& b : (*j)["benchmarks"]) {
         const std::string run = b.value("run_name", b.value("name", ""));
         if (b.value("run_type", "") == "aggregate") {
             const std::string agg = b.value("aggregate_name", "");
@@ -114,19 +188,8 @@ std::map<std::string, Timing> read_bench(const std::string& path, std::map<std::
             single[run] = b;
         }
     }
-    auto items = [](const json& b) {
-        if (b.contains("cases")) return b["cases"].get<double>();
-        if (b.contains("rays")) return b["rays"].get<double>();
-        return 1.0;
-    };
     auto take = [&](const std::string& run, const json& b) {
-        Timing t;
-        t.cases = items(b);
-        t.ns = to_ns(b["cpu_time"].get<double>(), b.value("time_unit", "ns")) / t.cases;
-        if (b.contains("hit_rate")) t.hit_rate = b["hit_rate"].get<double>();
-        if (b.contains("ratio")) t.ratio = b["ratio"].get<double>();
-        if (cv.count(run)) t.cv = cv[run]["cpu_time"].get<double>();
-        out[run] = t;
+        out[run] = timing_of(b, cv.count(run) ? &cv[run] : nullptr);
         if (rates && b.contains("exact_rate")) (*rates)[run] = b["exact_rate"].get<double>();
         if (rates && b.contains("queries")) (*rates)[run + "#queries"] = b["queries"].get<double>();
     };
@@ -146,6 +209,31 @@ struct Accuracy {
     double per_million(double x) const { return answered() > 0 ? x / answered() * 1e6 : NAN; }
 };
 
+// One CSV row, by column name.
+Accuracy accuracy_of(std::map<std::string, std::string>& row) {
+    Accuracy a;
+    auto num = [&](const char* k, double dflt) {
+        const auto it = row.find(k);
+        if (it == row.end() || it->second.empty() || it->second == "n/a") return dflt;
+        return std::stod(it->second);
+    };
+    a.cases = num("cases", 0);
+    a.wrong = num("wrong", 0);
+    a.false_hit = num("false_hit", 0);
+    a.false_miss = num("false_miss", 0);
+    a.invalid_mismatch = num("invalid_mismatch", 0);
+    a.face_mismatch = num("face_mismatch", -1);
+    a.t_judged = num("t_judged", -1);
+    a.t_off = num("t_off", -1);
+    a.not_enclosing = num("not_enclosing", -1);
+    a.exact_hits = num("exact_hits", 0);
+    a.refused = num("refused", 0);
+    a.max_ulps = row["max_ulps"].empty() ? "n/a" : row["max_ulps"];
+    a.status = row.count("status") ? row["status"] : "ok";
+    return a;
+}
+
+// shape/type/workload/method -> accuracy, from every CSV (a line "shape,..." is a header).
 std::map<std::string, Accuracy> read_accuracy(const std::vector<std::string>& paths) {
     std::map<std::string, Accuracy> out;
     for (const auto& path : paths) {
@@ -166,26 +254,7 @@ std::map<std::string, Accuracy> read_accuracy(const std::vector<std::string>& pa
             if (header.empty() || f.size() != header.size()) continue;
             std::map<std::string, std::string> row;
             for (std::size_t i = 0; i < f.size(); ++i) row[header[i]] = f[i];
-            Accuracy a;
-            auto num = [&](const char* k, double dflt) {
-                const auto it = row.find(k);
-                if (it == row.end() || it->second.empty() || it->second == "n/a") return dflt;
-                return std::stod(it->second);
-            };
-            a.cases = num("cases", 0);
-            a.wrong = num("wrong", 0);
-            a.false_hit = num("false_hit", 0);
-            a.false_miss = num("false_miss", 0);
-            a.invalid_mismatch = num("invalid_mismatch", 0);
-            a.face_mismatch = num("face_mismatch", -1);
-            a.t_judged = num("t_judged", -1);
-            a.t_off = num("t_off", -1);
-            a.not_enclosing = num("not_enclosing", -1);
-            a.exact_hits = num("exact_hits", 0);
-            a.refused = num("refused", 0);
-            a.max_ulps = row["max_ulps"].empty() ? "n/a" : row["max_ulps"];
-            a.status = row.count("status") ? row["status"] : "ok";
-            out[row["shape"] + "/" + row["type"] + "/" + row["workload"] + "/" + row["method"]] = a;
+            out[row["shape"] + "/" + row["type"] + "/" + row["workload"] + "/" + row["method"]] = accuracy_of(row);
         }
     }
     return out;
@@ -243,11 +312,11 @@ struct Report {
         const Timing* t = scalar(shape, type, w, m);
         return t ? t->ns : NAN;
     }
-    // certified / fast on uniform input measured in pairs (NaN when not measured), or
-    // another pair by its name.
-    double paired(const std::string& shape, const std::string& type,
-                  const std::string& pair = "certified_over_fast") const {
-        const auto it = timing.find("paired/" + shape + "/" + type + "/uniform/" + pair);
+    // A ratio measured in pairs on workload w (certified_over_fast,
+    // epeck_over_certified_verdict), NaN when not measured.
+    double paired(const std::string& shape, const std::string& type, const std::string& w,
+                  const std::string& pair) const {
+        const auto it = timing.find("paired/" + shape + "/" + type + "/" + w + "/" + pair);
         return it == timing.end() ? NAN : it->second.ratio;
     }
 };
@@ -262,10 +331,11 @@ std::string summary_table(const Report& r) {
         for (const auto& t : kTypes) {
             const double f = r.ns(s, t, "uniform", "fast"), c = r.ns(s, t, "uniform", "certified");
             const double e = r.ns(s, t, "uniform", "cgal_epeck"), v = r.ns(s, t, "uniform", "certified_verdict");
+            const double p = r.paired(s, t, "uniform", "certified_over_fast");
             const auto rate = r.rates.find("exact_stage/" + s + "/" + t + "/general");
             o << "| " << kShapeLabel.at(s) << " | " << t << " | " << fmt(f) << " | "
               << fmt(r.ns(s, t, "uniform", "conservative")) << " | " << fmt(c) << " | " << fmt(c / f, 3) << "× | "
-              << (std::isnan(r.paired(s, t)) ? std::string("—") : fmt(r.paired(s, t), 3) + "×") << " | " << fmt(v)
+              << (std::isnan(p) ? std::string("—") : fmt(p, 3) + "×") << " | " << fmt(v)
               << " | " << fmt(r.ns(s, t, "uniform", "textbook")) << " | " << fmt(r.ns(s, t, "uniform", "branchless")) << " | "
               << fmt(e) << " | " << (std::isnan(e) ? std::string("—") : fmt(e / c, 3) + "×") << " | "
               << (std::isnan(e) ? std::string("—") : fmt(e / v, 3) + "×") << " | "
@@ -275,96 +345,120 @@ std::string summary_table(const Report& r) {
     return o.str();
 }
 
-std::string checks(const Report& r) {
-    std::ostringstream o;
-    auto mark = [](bool ok) { return ok ? "**yes**" : "**no**"; };
-    // One method's time over another's on uniform input: the ratio of the two medians,
-    // and the paired measurement where it was made (both passes of a pair see the
-    // machine in the same state), else the ratio of the medians. Both checks are read
-    // on the kernel's headline case (Aabb, double: the slab method), with every shape
-    // and type listed beside it.
-    auto medians = [&](const std::string& s, const std::string& t, const char* num, const char* den) {
-        return r.ns(s, t, "uniform", num) / r.ns(s, t, "uniform", den);
-    };
-    auto ratio = [&](const std::string& s, const std::string& t, const char* pair, const char* num, const char* den) {
-        const double p = r.paired(s, t, pair);
-        return std::isnan(p) ? medians(s, t, num, den) : p;
-    };
-    auto in_pairs = [&](const char* pair) {
-        return std::isnan(r.paired("aabb", "double", pair)) ? "" : ", measured in pairs";
-    };
-    const char* const cf[] = {"certified_over_fast", "certified", "fast"};
-    const double q = ratio("aabb", "double", cf[0], cf[1], cf[2]);
-    o << "- Certified within 1.5× of fast on uniform input (Aabb, double" << in_pairs(cf[0]) << "): " << fmt(q, 3)
-      << "× — " << mark(q <= 1.5)
-      << " (the ratio of the two medians in the table: " << fmt(medians("aabb", "double", cf[1], cf[2]), 3)
-      << "×). Every shape and type: ";
-    bool first = true;
-    for (const auto& s : kShapes)
-        for (const auto& t : kTypes) {
-            o << (first ? "" : ", ") << kShapeLabel.at(s) << ' ' << t << ' ' << fmt(ratio(s, t, cf[0], cf[1], cf[2]), 3)
-              << "×";
-            first = false;
-        }
-    o << ".\n";
+// ---- the acceptance checks ----------------------------------------------------------
+// A target: one method's time over another's on a workload must stay at most (or at
+// least) `limit`. It is read on the kernel's headline case (shape, type: Aabb, double,
+// the slab method) from the pair benchmark `pair` where it ran (both passes of a pair
+// see the machine in the same state), else from the ratio of the two medians; every
+// shape and type is listed beside it. Its sentence is section "check.<pair>" of the
+// template.
+enum class Bound { at_most, at_least };
+struct Target {
+    const char* pair;               // the paired benchmark measuring it, and its sentence
+    const char* num;                // time(num) / time(den)
+    const char* den;
+    Bound bound;
+    double limit;
+    const char* shape;              // the case the verdict is read on
+    const char* type;
+    const char* workload;
+    int digits;                     // significant digits of the headline ratio
+    bool measured_only;             // list only where num was timed, the medians' ratio in brackets
+    const char* also_den = nullptr; // also list time(num) / time(also_den) (the medians)
+};
+
+constexpr Target kTargets[] = {
+    // The certified mode costs at most 1.5 times the fast one.
+    {"certified_over_fast", "certified", "fast", Bound::at_most, 1.5, "aabb", "double", "uniform", 3, false},
     // CGAL's do_intersect answers the verdict alone, so the like-for-like comparison is
     // with the kernel's verdict query; the full query (faithful t and face as well) is
     // listed beside it.
-    const char* const ev[] = {"epeck_over_certified_verdict", "cgal_epeck", "certified_verdict"};
-    const double ae = ratio("aabb", "double", ev[0], ev[1], ev[2]);
-    o << "- Certified at least 50× faster than CGAL Epeck on uniform input, the same question (`verdict`, "
-         "certified, against `do_intersect`; Aabb, double"
-      << in_pairs(ev[0]) << "): " << fmt(ae, 4) << "× — " << mark(ae >= 50)
-      << " (the ratio of the two medians in the table: " << fmt(medians("aabb", "double", ev[1], ev[2]), 3)
-      << "×). Every shape and type, in pairs where the pair ran (the ratio of the two medians in brackets): ";
-    first = true;
+    {"epeck_over_certified_verdict", "cgal_epeck", "certified_verdict", Bound::at_least, 50, "aabb", "double",
+     "uniform", 4, true, "certified"},
+};
+
+double medians(const Report& r, const std::string& s, const std::string& t, const Target& g, const char* den) {
+    return r.ns(s, t, g.workload, g.num) / r.ns(s, t, g.workload, den);
+}
+
+double ratio(const Report& r, const std::string& s, const std::string& t, const Target& g) {
+    const double p = r.paired(s, t, g.workload, g.pair);
+    return std::isnan(p) ? medians(r, s, t, g, g.den) : p;
+}
+
+// "Aabb double 1.29×, ..." for every shape and type that item() answers.
+std::string every_case(const std::function<std::optional<std::string>(const std::string&, const std::string&)>& item) {
+    std::string out;
     for (const auto& s : kShapes)
-        for (const auto& t : kTypes) {
-            if (std::isnan(r.ns(s, t, "uniform", "cgal_epeck"))) continue;
-            o << (first ? "" : ", ") << kShapeLabel.at(s) << ' ' << t << ' ' << fmt(ratio(s, t, ev[0], ev[1], ev[2]), 3)
-              << "× [" << fmt(medians(s, t, ev[1], ev[2]), 3) << "×]";
-            first = false;
-        }
-    o << ". The full certified answer (verdict, faithful t and face) against the same `do_intersect`: ";
-    first = true;
-    for (const auto& s : kShapes)
-        for (const auto& t : kTypes) {
-            const double e = r.ns(s, t, "uniform", "cgal_epeck");
-            if (std::isnan(e)) continue;
-            o << (first ? "" : ", ") << kShapeLabel.at(s) << ' ' << t << ' '
-              << fmt(e / r.ns(s, t, "uniform", "certified"), 3) << "×";
-            first = false;
-        }
-    o << ".\n";
-    o << "- Fast mode's wrong verdicts on the grazing-heavy workload (per million): ";
-    first = true;
-    for (const auto& s : kShapes)
-        for (const auto& t : kTypes) {
-            const Accuracy* a = r.acc(s, t, "grazing", "fast");
-            o << (first ? "" : ", ") << kShapeLabel.at(s) << ' ' << t << ' '
-              << (a ? fmt_ppm(a->per_million(a->wrong)) : "—");
-            first = false;
-        }
-    o << ".\n";
-    o << "- Embree on the far-small-sphere workload (float): ";
+        for (const auto& t : kTypes)
+            if (const auto v = item(s, t)) out += (out.empty() ? "" : ", ") + kShapeLabel.at(s) + ' ' + t + ' ' + *v;
+    return out;
+}
+
+std::string target_check(const Report& r, const Target& g) {
+    const double q = ratio(r, g.shape, g.type, g);
+    const bool met = g.bound == Bound::at_most ? q <= g.limit : q >= g.limit;
+    auto listed = [&](const std::string& s, const std::string& t) {
+        return !g.measured_only || !std::isnan(r.ns(s, t, g.workload, g.num));
+    };
+    Vars v = {{"limit", fmt(g.limit)},
+              {"case", kShapeLabel.at(g.shape) + ", " + g.type},
+              {"in_pairs", std::isnan(r.paired(g.shape, g.type, g.workload, g.pair)) ? "" : prose()("check.in_pairs")},
+              {"value", fmt(q, g.digits)},
+              {"mark", met ? "**yes**" : "**no**"},
+              {"medians", fmt(medians(r, g.shape, g.type, g, g.den), 3)}};
+    v["every"] = every_case([&](const std::string& s, const std::string& t) -> std::optional<std::string> {
+        if (!listed(s, t)) return std::nullopt;
+        const std::string bracket = g.measured_only ? " [" + fmt(medians(r, s, t, g, g.den), 3) + "×]" : "";
+        return fmt(ratio(r, s, t, g), 3) + "×" + bracket;
+    });
+    if (g.also_den)
+        v["also"] = every_case([&](const std::string& s, const std::string& t) -> std::optional<std::string> {
+            if (!listed(s, t)) return std::nullopt;
+            return fmt(medians(r, s, t, g, g.also_den), 3) + "×";
+        });
+    return prose()(std::string("check.") + g.pair, v) + '\n';
+}
+
+// Fast mode's wrong verdicts on the grazing-heavy workload, every shape and type.
+std::string grazing_check(const Report& r) {
+    const std::string every = every_case([&](const std::string& s, const std::string& t) -> std::optional<std::string> {
+        const Accuracy* a = r.acc(s, t, "grazing", "fast");
+        return a ? fmt_ppm(a->per_million(a->wrong)) : "—";
+    });
+    return prose()("check.grazing", {{"every", every}}) + '\n';
+}
+
+// Embree and the certified mode on the far-small-sphere workload (float).
+std::string embree_check(const Report& r) {
+    std::string methods, certified;
     for (const char* m : {"embree", "embree_robust"}) {
         const Accuracy* a = r.acc("sphere", "float", "far_small", m);
         if (!a) continue;
-        o << kMethodLabel.at(m) << " " << fmt_ppm(a->per_million(a->wrong)) << " wrong verdicts per million answered ("
-          << fmt_ppm(a->per_million(a->false_miss)) << " false misses), " << fmt(a->refused / a->cases * 1e6)
-          << " per million rays refused (beyond its 1.8e18 coordinate limit), t_enter up to " << fmt_ulps(a->max_ulps)
-          << " ulps; ";
+        methods += prose()("check.embree.method", {{"method", kMethodLabel.at(m)},
+                                                   {"wrong", fmt_ppm(a->per_million(a->wrong))},
+                                                   {"false_miss", fmt_ppm(a->per_million(a->false_miss))},
+                                                   {"refused", fmt(a->refused / a->cases * 1e6)},
+                                                   {"ulps", fmt_ulps(a->max_ulps)}}) +
+                   ' ';
     }
     if (const Accuracy* a = r.acc("sphere", "float", "far_small", "certified"))
-        o << "certified " << fmt_ppm(a->per_million(a->wrong)) << " wrong, t off by " << fmt_ulps(a->max_ulps)
-          << " ulps";
-    o << ".\n";
-    // Any method that hung or crashed on some case.
-    for (const auto& [key, a] : r.accuracy)
-        if (a.status != "ok") o << "- Did not finish: `" << key << "`: " << a.status << ".\n";
-    return o.str();
+        certified = prose()("check.embree.certified", {{"wrong", fmt_ppm(a->per_million(a->wrong))},
+                                                       {"ulps", fmt_ulps(a->max_ulps)}});
+    return prose()("check.embree", {{"methods", methods}, {"certified", certified}}) + '\n';
 }
 
+std::string checks(const Report& r) {
+    std::string o;
+    for (const Target& g : kTargets) o += target_check(r, g);
+    o += grazing_check(r) + embree_check(r);
+    // Any method that hung or crashed on some case.
+    for (const auto& [key, a] : r.accuracy)
+        if (a.status != "ok") o += prose()("check.unfinished", {{"key", key}, {"status", a.status}}) + '\n';
+    return o;
+}
+
+// ---- the tables of the full report --------------------------------------------------
 std::string shape_table(const Report& r, const std::string& s) {
     std::ostringstream o;
     o << "| type | workload | method | ns / query | spread | Mq/s | × fast | wrong / M | false miss / M | "
@@ -394,6 +488,11 @@ std::string shape_table(const Report& r, const std::string& s) {
     return o.str();
 }
 
+std::string batch_size(long n) {
+    if (n >= 1000000) return std::to_string(n / 1000000) + "M";
+    return n >= 1000 ? std::to_string(n / 1000) + "k" : std::to_string(n);
+}
+
 std::string batch_table(const Report& r) {
     std::vector<long> sizes;
     for (const auto& [name, t] : r.timing) {
@@ -402,11 +501,10 @@ std::string batch_table(const Report& r) {
         if (std::find(sizes.begin(), sizes.end(), n) == sizes.end()) sizes.push_back(n);
     }
     std::sort(sizes.begin(), sizes.end());
-    if (sizes.empty()) return "(no batch timings)\n";
+    if (sizes.empty()) return prose()("batch.none");
     std::ostringstream o;
-    o << "Million rays per second, `intersect(span<const Ray>, shape, mode, span<Hit>)`, one shape, uniform rays:\n\n";
     o << "| shape | type | mode |";
-    for (long n : sizes) o << ' ' << (n >= 1000000 ? std::to_string(n / 1000000) + "M" : n >= 1000 ? std::to_string(n / 1000) + "k" : std::to_string(n)) << " |";
+    for (long n : sizes) o << ' ' << batch_size(n) << " |";
     o << "\n|---|---|---|";
     for (std::size_t i = 0; i < sizes.size(); ++i) o << "--:|";
     o << '\n';
@@ -420,17 +518,17 @@ std::string batch_table(const Report& r) {
                 }
                 o << '\n';
             }
-    return o.str();
+    return prose()("batch", {{"table", o.str()}});
 }
 
-std::string exact_stage_table(const Report& r) {
+// The generators with exact-stage counts, in the registry's order, unknown ones last.
+std::vector<std::string> counted_generators(const Report& r) {
     std::vector<std::string> gens;
     for (const auto& [name, rate] : r.rates) {
         if (name.find('#') != std::string::npos) continue;
         const std::string g = name.substr(name.rfind('/') + 1);
         if (std::find(gens.begin(), gens.end(), g) == gens.end()) gens.push_back(g);
     }
-    if (gens.empty()) return "(no exact-stage counts)\n";
     const std::vector<std::string> order = {"general",     "log_uniform", "grazing", "near_grazing",    "parallel",
                                             "on_boundary", "extreme",     "rotated_integer", "invalid"};
     std::vector<std::string> sorted;
@@ -438,16 +536,22 @@ std::string exact_stage_table(const Report& r) {
         if (std::find(gens.begin(), gens.end(), g) != gens.end()) sorted.push_back(g);
     for (const auto& g : gens)
         if (std::find(sorted.begin(), sorted.end(), g) == sorted.end()) sorted.push_back(g);
+    return sorted;
+}
+
+std::string exact_stage_table(const Report& r) {
+    const std::vector<std::string> gens = counted_generators(r);
+    if (gens.empty()) return prose()("exact_stage.none");
     std::ostringstream o;
     o << "| shape | type |";
-    for (const auto& g : sorted) o << ' ' << (g == "general" ? "general (uniform)" : g) << " |";
+    for (const auto& g : gens) o << ' ' << (g == "general" ? "general (uniform)" : g) << " |";
     o << "\n|---|---|";
-    for (std::size_t i = 0; i < sorted.size(); ++i) o << "--:|";
+    for (std::size_t i = 0; i < gens.size(); ++i) o << "--:|";
     o << '\n';
     for (const auto& s : kShapes)
         for (const auto& t : kTypes) {
             o << "| " << kShapeLabel.at(s) << " | " << t << " |";
-            for (const auto& g : sorted) {
+            for (const auto& g : gens) {
                 const std::string key = "exact_stage/" + s + "/" + t + "/" + g;
                 const auto it = r.rates.find(key);
                 const auto q = r.rates.find(key + "#queries");
@@ -462,7 +566,7 @@ std::string exact_stage_table(const Report& r) {
 }
 
 std::string tracer_table(const Report& r, const std::string& png) {
-    if (r.tracer.empty()) return "(no tracer timings)\n";
+    if (r.tracer.empty()) return prose()("tracer.none");
     // Labels: MODE and povray (wall seconds), MODE-cpu and povray-cpu (user + system).
     std::map<std::string, double> wall, cpu;
     std::vector<std::string> order;
@@ -480,15 +584,19 @@ std::string tracer_table(const Report& r, const std::string& png) {
         o << "| " << (name == "povray" ? "POV-Ray 3.7 (exported scene)" : "rayproof render, " + name) << " | "
           << fmt(w, 3) << " | " << fmt(w / pw, 3) << " | " << fmt(c, 3) << " | " << fmt(c / pc, 3) << " |\n";
     }
-    if (!png.empty()) o << "\n![rayproof (left) and POV-Ray (right), the same scene](" << png << ")\n";
+    if (!png.empty()) o << prose()("tracer.image", {{"png", png}});
     return o.str();
 }
 
-void write_plot(const Report& r, const std::string& dir, const std::string& png) {
-    // trade.dat: one index block per workload, one sub-block per method; columns:
-    // ns/query, wrong per million (0 drawn at the floor), point type (shape; filled =
-    // double), shape, type.
-    std::ofstream dat(dir + "/trade.dat");
+// ---- the plot -----------------------------------------------------------------------
+const std::vector<std::string> kColors = {"#1b9e77", "#e6ab02", "#d95f02", "#fb9a99", "#7570b3",
+                                          "#e7298a", "#66a61e", "#a6761d", "#1f78b4", "#666666"};
+
+// trade.dat: one index block per workload, one sub-block per method; columns: ns/query,
+// wrong per million (0 drawn at the floor), point type (shape; filled = double), shape,
+// type.
+void write_plot_data(const Report& r, const std::string& path) {
+    std::ofstream dat(path);
     const std::map<std::string, int> pt_open = {{"aabb", 4}, {"obb", 6}, {"plane", 8}, {"sphere", 12}};
     const double floor_ppm = 0.5;
     for (const auto& w : kWorkloads) {
@@ -510,10 +618,29 @@ void write_plot(const Report& r, const std::string& dir, const std::string& png)
             dat << "\n\n";
         }
     }
-    std::ofstream gp(dir + "/trade.gp");
-    const std::vector<std::string> colors = {"#1b9e77", "#e6ab02", "#d95f02", "#fb9a99", "#7570b3",
-                                             "#e7298a", "#66a61e", "#a6761d", "#1f78b4", "#666666"};
-    if (colors.size() < kMethods.size()) throw std::logic_error("trade_report: a color per method is missing");
+}
+
+// The sixth panel: the methods' colours and the point types.
+void write_plot_legend(std::ostream& gp) {
+    gp << "unset title\nunset grid\nunset logscale\nunset xtics\nunset ytics\nunset xlabel\nunset ylabel\nunset "
+          "border\nset xrange [0:10]\nset yrange [0:10]\n";
+    for (std::size_t mi = 0; mi < kMethods.size(); ++mi) {
+        const double y = 9.3 - 0.85 * double(mi);
+        gp << "set label " << mi + 1 << " '" << kMethodLabel.at(kMethods[mi]) << "' at 1.2," << y
+           << " tc rgb '" << kColors[mi] << "' font ',11'\n";
+        gp << "set object " << mi + 1 << " circle at 0.6," << y << " size 0.18 fc rgb '" << kColors[mi]
+           << "' fs solid noborder\n";
+    }
+    gp << "set label 20 'point: Aabb square, Obb circle,' at 5.2,9.3\n";
+    gp << "set label 21 'Plane triangle, Sphere diamond;' at 5.2,8.45\n";
+    gp << "set label 22 'filled: double, open: float' at 5.2,7.6\n";
+    gp << "plot NaN notitle\nunset multiplot\n";
+}
+
+// trade.gp: one panel per workload of trade.dat, drawn into png, and the legend.
+void write_plot_script(const std::string& path, const std::string& png) {
+    std::ofstream gp(path);
+    if (kColors.size() < kMethods.size()) throw std::logic_error("trade_report: a color per method is missing");
     gp << "set terminal pngcairo size 1500,900 font 'DejaVu Sans,10'\n";
     gp << "set output '" << png << "'\n";
     gp << "set multiplot layout 2,3 title 'Time per query against wrong verdicts (per million, judged by the exact "
@@ -529,26 +656,20 @@ void write_plot(const Report& r, const std::string& dir, const std::string& png)
         gp << "plot ";
         for (std::size_t mi = 0; mi < kMethods.size(); ++mi) {
             gp << (mi ? ", " : "") << "'trade.dat' index " << wi * int(kMethods.size()) + int(mi)
-               << " using 1:2:3 with points pt variable ps 1.6 lc rgb '" << colors[mi] << "'";
+               << " using 1:2:3 with points pt variable ps 1.6 lc rgb '" << kColors[mi] << "'";
         }
         gp << '\n';
         ++wi;
     }
-    // The legend panel.
-    gp << "unset title\nunset grid\nunset logscale\nunset xtics\nunset ytics\nunset xlabel\nunset ylabel\nunset "
-          "border\nset xrange [0:10]\nset yrange [0:10]\n";
-    for (std::size_t mi = 0; mi < kMethods.size(); ++mi) {
-        const double y = 9.3 - 0.85 * double(mi);
-        gp << "set label " << mi + 1 << " '" << kMethodLabel.at(kMethods[mi]) << "' at 1.2," << y
-           << " tc rgb '" << colors[mi] << "' font ',11'\n";
-        gp << "set object " << mi + 1 << " circle at 0.6," << y << " size 0.18 fc rgb '" << colors[mi]
-           << "' fs solid noborder\n";
-    }
-    gp << "set label 20 'point: Aabb square, Obb circle,' at 5.2,9.3\n";
-    gp << "set label 21 'Plane triangle, Sphere diamond;' at 5.2,8.45\n";
-    gp << "set label 22 'filled: double, open: float' at 5.2,7.6\n";
-    gp << "plot NaN notitle\nunset multiplot\n";
+    write_plot_legend(gp);
 }
+
+// ---- the command line and the outputs -----------------------------------------------
+struct Args {
+    std::string bench, counters, tracer, md, plot_dir, plot_png, plot_ref, tracer_png, audit, summary_md;
+    std::vector<std::string> accuracy;
+    std::vector<std::pair<std::string, std::string>> meta;
+};
 
 int usage() {
     std::cerr << "usage: rayproof_trade_report --bench B.json [--counters C.json] [--accuracy A.csv ...]\n"
@@ -557,136 +678,106 @@ int usage() {
     return 2;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-    std::string bench, counters, tracer, md, plot_dir, plot_png, plot_ref, tracer_png, audit, summary_md;
-    std::vector<std::string> accuracy;
-    Report r;
+// The exit status when the program is to stop (help, a usage error), else nothing.
+std::optional<int> parse_args(int argc, char** argv, Args& a) {
+    const std::map<std::string, std::string Args::*> paths = {
+        {"--bench", &Args::bench},       {"--counters", &Args::counters}, {"--tracer", &Args::tracer},
+        {"--md", &Args::md},             {"--plot-dir", &Args::plot_dir}, {"--plot-png", &Args::plot_png},
+        {"--plot-ref", &Args::plot_ref}, {"--tracer-png", &Args::tracer_png}, {"--audit", &Args::audit},
+        {"--summary-md", &Args::summary_md}};
     for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        if (a == "-h" || a == "--help") {
+        const std::string flag = argv[i];
+        if (flag == "-h" || flag == "--help") {
             usage();
             return 0;
         }
         if (i + 1 >= argc) return usage();
         const std::string v = argv[++i];
-        if (a == "--bench") bench = v;
-        else if (a == "--counters") counters = v;
-        else if (a == "--accuracy") accuracy.push_back(v);
-        else if (a == "--tracer") tracer = v;
-        else if (a == "--md") md = v;
-        else if (a == "--plot-dir") plot_dir = v;
-        else if (a == "--plot-png") plot_png = v;
-        else if (a == "--plot-ref") plot_ref = v;
-        else if (a == "--tracer-png") tracer_png = v;
-        else if (a == "--audit") audit = v;
-        else if (a == "--summary-md") summary_md = v;
-        else if (a == "--meta") {
-            const auto eq = v.find('=');
-            if (eq == std::string::npos) return usage();
-            r.meta.emplace_back(v.substr(0, eq), v.substr(eq + 1));
-        } else
+        if (const auto it = paths.find(flag); it != paths.end()) {
+            a.*(it->second) = v;
+        } else if (flag == "--accuracy") {
+            a.accuracy.push_back(v);
+        } else if (flag == "--meta" && v.find('=') != std::string::npos) {
+            a.meta.emplace_back(v.substr(0, v.find('=')), v.substr(v.find('=') + 1));
+        } else {
             return usage();
+        }
     }
-    if (bench.empty()) return usage();
-    r.timing = read_bench(bench, nullptr, &r.context);
-    if (!counters.empty()) r.counters_timing = read_bench(counters, &r.rates, nullptr);
-    r.accuracy = read_accuracy(accuracy);
-    if (!tracer.empty()) {
-        std::ifstream in(tracer);
+    if (a.bench.empty()) return usage();
+    return std::nullopt;
+}
+
+Report load(const Args& a) {
+    Report r;
+    r.meta = a.meta;
+    r.timing = read_bench(a.bench, nullptr, &r.context);
+    if (!a.counters.empty()) r.counters_timing = read_bench(a.counters, &r.rates, nullptr);
+    r.accuracy = read_accuracy(a.accuracy);
+    if (!a.tracer.empty()) {
+        std::ifstream in(a.tracer);
         std::string label;
         double seconds;
         while (in >> label >> seconds) r.tracer.emplace_back(label, seconds);
     }
+    return r;
+}
 
-    std::ostringstream head;
-    for (const auto& [k, v] : r.meta) head << "- " << k << ": " << v << '\n';
-    if (!r.context.is_null()) {
-        head << "- CPU: " << r.context.value("num_cpus", 0) << " cores at " << r.context.value("mhz_per_cpu", 0)
-             << " MHz; load average at the start of the timings: ";
-        if (r.context.contains("load_avg") && r.context["load_avg"].is_array() && !r.context["load_avg"].empty())
-            head << fmt(r.context["load_avg"][0].get<double>(), 3);
-        head << '\n';
-    }
+// How the numbers were made: the --meta lines and the machine.
+std::string head(const Report& r) {
+    std::string o;
+    for (const auto& [k, v] : r.meta) o += prose()("head.meta", {{"key", k}, {"value", v}}) + '\n';
+    if (r.context.is_null()) return o;
+    const json& c = r.context;
+    const bool load = c.contains("load_avg") && c["load_avg"].is_array() && !c["load_avg"].empty();
+    return o + prose()("head.cpu", {{"cpus", std::to_string(c.value("num_cpus", 0))},
+                                    {"mhz", std::to_string(c.value("mhz_per_cpu", 0))},
+                                    {"load", load ? fmt(c["load_avg"][0].get<double>(), 3) : ""}}) +
+           '\n';
+}
 
-    const std::string summary = summary_table(r), check = checks(r);
-    std::cout << "## Uniform random input: ns per query (median CPU time)\n\n" << summary << "\n## Checks\n\n" << check;
+// The audit's Markdown, its headings one level down.
+std::string audit_section(const std::string& path) {
+    std::ifstream in(path);
+    std::string line, audit;
+    while (std::getline(in, line)) audit += (line.rfind('#', 0) == 0 ? "##" : "") + line + '\n';
+    return prose()("report.audit", {{"audit", audit}});
+}
 
-    if (!md.empty()) {
-        std::ofstream o(md);
-        o << "# The trade: speed against accuracy\n\n"
-             "Generated by `./scripts/trade.sh` (do not edit by hand). Every number below comes from one run: the "
-             "timings (Google Benchmark, `bench/`), the exact-stage counts, the accuracy judgements (every answer "
-             "compared with the exact CGAL oracle, on the very cases that were timed) and the tracer comparison.\n\n"
-          << head.str()
-          << "\nTimes are the median CPU time over the repetitions of one pass over the cases, divided by the number "
-             "of cases (CPU time rather than wall time, because the machine may be shared); *spread* is the "
-             "coefficient of variation over the repetitions. *certified / fast, paired* times one pass of fast "
-             "and one of certified over the same cases back to back, many times, each after an untimed pass of "
-             "the same method (warm, as every method is timed alone), and is the median of the ratios "
-             "(the median of the repetitions' medians): both halves of a pair run with the machine in the same "
-             "state, which two independent medians on a shared machine need not; the checks use it. The Epeck check is measured the same way (one pass of the certified verdict query, one of Epeck's do_intersect, on the cases both are timed on). Accuracy rates are per million answered cases. CGAL "
-             "answers a verdict only (no t, no face); Embree answers the first surface crossing only, computes in "
-             "float, and refuses rays with a coordinate beyond 1.8e18.\n\n"
-             "## Uniform random input (ns per query)\n\n"
-          << summary << "\n## Checks\n\n" << check;
-        if (!plot_ref.empty())
-            o << "\n## The plot\n\n![time per query against wrong verdicts, one panel per workload](" << plot_ref
-              << ")\n";
-        o << "\n## Batch: throughput as the batch grows\n\n" << batch_table(r);
-        o << "\n## How often the certified mode needs exact arithmetic\n\nThe fraction of certified queries that "
-             "left the floating-point filter for the exact stage, per case generator (counted in a separate build "
-             "with `RAYPROOF_COUNTERS=1`; the uniform column is the `general` generator, whose first cases are the "
-             "uniform workload):\n\n"
-          << exact_stage_table(r);
-        o << "\n## Tracer: rayproof against POV-Ray\n\nThe default scene at 640×480, same depth, 2 threads each:\n\n"
-          << tracer_table(r, tracer_png);
-        o << "\n## Notes on the baselines\n\n"
-             "- *certified, verdict alone*: `rayproof::verdict(ray, shape, certified)`, the exact verdict without t "
-             "or face: the question CGAL's `do_intersect` answers, so the Epeck comparison of the checks uses it. "
-             "The certified Aabb, plane and sphere have verdict filters of their own (no winner, face, root or "
-             "rounding of t), the Obb answers it with the full query.\n"
-             "- *textbook*: boxes the branchy slab, per axis (lo - o)/d and (hi - o)/d, swap, compare, early exit (the "
-             "classic course notes), Obb in the box frame; Sphere the textbook quadratic b² - ac; Plane (offset - n·o)/(n·d). "
-             "*branch-free slab*: inverse direction and min/max, no face. Neither validates its input.\n"
-             "- *CGAL*: `do_intersect` on Ray_3 / Segment_3 / Line_3 / Point_3 chosen by the ray's range, built "
-             "exactly from the inputs. CGAL 5.5's `do_intersect(Segment_3, Sphere_3)` answers for the sphere surface "
-             "(false when both ends are inside), unlike its Ray_3 and Line_3 versions: the adapter adds the "
-             "containment of the segment's source, for the ball. Left as measured: CGAL 5.5's "
-             "`do_intersect(Line_3, Iso_cuboid_3)` answers hit for a line parallel to two axes that lies in the plane "
-             "of a face of the first and outside the slab of the other (the wrong verdicts in the CGAL rows of the "
-             "Aabb table).\n"
-             "- *Embree* 3 (Debian): one scene with one `RTC_GEOMETRY_TYPE_SPHERE_POINT` per case, `rtcIntersect1`; "
-             "float only. It needs t_near >= 0 (a ray with t_min < 0 is asked forwards and backwards), it reports "
-             "surface crossings (a ray range inside the ball is a miss for it), and it requires every origin and "
-             "direction component to be at most 1.844e18 (its `FLT_LARGE`; Debian's build asserts it): such rays are "
-             "refused and counted apart (*refused*), the rates are per answered ray.\n";
-        o << "\n## Everything, per shape\n\nWorkloads: *uniform* = the `general` generator; *grazing* = `grazing` and "
-             "`near_grazing` alternately; *parallel* = `parallel`; *extreme* = `extreme`; *far_small* = the "
-             "tiny-and-far cases of `extreme` (origin in [-1, 1]³, the shape at least 2^20 away and at most 2^-9 of "
-             "that distance across). *t not faithful*: t_enter or t_exit is not one of the two floating-point "
-             "neighbours of the exact value; *max t error*: how many representable values away from the nearest "
-             "faithful one (a wrong interval end shows as a power of two; *NaN t* when some answer had a NaN t).\n";
-        for (const auto& s : kShapes) o << "\n### " << kShapeLabel.at(s) << "\n\n" << shape_table(r, s);
-        if (!audit.empty()) {
-            std::ifstream in(audit);
-            o << "\n## The audit: every generator, every mode\n\nThe output of `rayproof-audit` in the same run "
-                 "(its own seed and sample sizes):\n\n";
-            std::string line;
-            while (std::getline(in, line)) o << (line.rfind('#', 0) == 0 ? "##" : "") << line << '\n';
-        }
+// The full report (docs/trade.md).
+std::string full_report(const Report& r, const Args& a, const Vars& common) {
+    Vars v = common;
+    v["plot"] = a.plot_ref.empty() ? "" : prose()("report.plot", {{"plot_ref", a.plot_ref}});
+    v["batch"] = batch_table(r);
+    v["exact_stage"] = exact_stage_table(r);
+    v["tracer"] = tracer_table(r, a.tracer_png);
+    for (const auto& s : kShapes)
+        v["shapes"] += prose()("report.shape", {{"shape", kShapeLabel.at(s)}, {"table", shape_table(r, s)}});
+    v["audit"] = a.audit.empty() ? "" : audit_section(a.audit);
+    return prose()("report", v);
+}
+
+// The short version for the README: how it was made, the uniform table, the checks, the
+// plot (paths relative to the repository root).
+std::string summary_report(const Args& a, const Vars& common) {
+    Vars v = common;
+    v["plot"] = a.plot_ref.empty() ? "" : prose()("summary.plot", {{"plot_ref", a.plot_ref}});
+    v["tracer_png"] = a.tracer_png.empty() ? "" : prose()("summary.tracer", {{"tracer_png", a.tracer_png}});
+    return prose()("summary", v);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Args a;
+    if (const auto status = parse_args(argc, argv, a)) return *status;
+    const Report r = load(a);
+    const Vars common = {{"head", head(r)}, {"summary", summary_table(r)}, {"checks", checks(r)}};
+    std::cout << prose()("stdout", common);
+    if (!a.md.empty()) std::ofstream(a.md) << full_report(r, a, common);
+    if (!a.summary_md.empty()) std::ofstream(a.summary_md) << summary_report(a, common);
+    if (!a.plot_dir.empty() && !a.plot_png.empty()) {
+        write_plot_data(r, a.plot_dir + "/trade.dat");
+        write_plot_script(a.plot_dir + "/trade.gp", a.plot_png);
     }
-    if (!summary_md.empty()) {
-        // The short version for the README: how it was made, the uniform table, the checks,
-        // the plot (paths relative to the repository root).
-        std::ofstream o(summary_md);
-        o << head.str() << "\nns per query on uniform random input (median CPU time):\n\n" << summary << "\n" << check;
-        if (!plot_ref.empty()) o << "\n![time per query against wrong verdicts](docs/" << plot_ref << ")\n";
-        if (!tracer_png.empty()) o << "\n![rayproof and POV-Ray, the default scene](docs/" << tracer_png << ")\n";
-        o << "\nEverything else (every workload and baseline, batch sizes, exact-stage rates, the tracer timings): "
-             "[docs/trade.md](docs/trade.md).\n";
-    }
-    if (!plot_dir.empty() && !plot_png.empty()) write_plot(r, plot_dir, plot_png);
     return 0;
 }

@@ -165,13 +165,6 @@ void print_stats(const Stats& st) {
                  (unsigned long long)st.invalid, (unsigned long long)st.shadowed);
 }
 
-std::string unavailable_modes_note() {
-    std::string s;
-    for (Mode m : all_modes)
-        if (mode_available(m)) s += std::string(s.empty() ? "" : ", ") + mode_name(m);
-    return "this build answers: " + s;
-}
-
 int run_render(const Args& a) {
     if (a.scene.empty()) return usage_error("render", "no scene file given");
     if (a.output.empty()) return usage_error("render", "no output file given (-o OUT.png or -o OUT.ppm)");
@@ -186,11 +179,6 @@ int run_render(const Args& a) {
     const int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
 
     auto render_mode = [&](Mode m) -> std::optional<RenderResult> {
-        if (!mode_available(m)) {
-            std::fprintf(stderr, "rayproof render: mode '%s' is not available in this build (%s)\n", mode_name(m),
-                         unavailable_modes_note().c_str());
-            return std::nullopt;
-        }
         Scene s = *scene;
         s.settings.mode = m;
         RenderResult r = render(s, opt);

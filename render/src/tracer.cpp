@@ -22,10 +22,6 @@ namespace {
 using Rayd = Ray<double>;
 using Hitd = Hit<double>;
 
-template <class M>
-constexpr bool mode_ready = Answerable<double, Sphere<double>, M> && Answerable<double, Aabb<double>, M> &&
-                            Answerable<double, Obb<double>, M> && Answerable<double, Plane<double>, M>;
-
 constexpr double inf = std::numeric_limits<double>::infinity();
 
 double max3(const Color& c) { return c.maxCoeff(); }
@@ -188,58 +184,60 @@ private:
         return {rh, rev};
     }
 
-    static int nearest_face(const Aabb<double>& b, const Vec3d& p) {
-        int best = 0;
-        double dmin = inf;
-        for (int f = 0; f < 6; ++f) {
-            const double d = std::abs(p[f / 2] - ((f % 2) ? b.hi[f / 2] : b.lo[f / 2]));
-            if (d < dmin) dmin = d, best = f;
-        }
-        return best;
+    // The distance from p to the plane of face f (axis f / 2, the hi side when f is odd).
+    static double face_distance(const Aabb<double>& b, int f, const Vec3d& p) {
+        return std::abs(p[f / 2] - ((f % 2) ? b.hi[f / 2] : b.lo[f / 2]));
     }
-    static int nearest_face(const Obb<double>& b, const Vec3d& p) {
+    static double face_distance(const Obb<double>& b, int f, const Vec3d& p) {
+        const Vec3d a = b.axes.col(f / 2);
+        const double h = (f % 2) ? b.half_extent[f / 2] : -b.half_extent[f / 2];
+        return std::abs((p - b.center).dot(a) - h) / a.norm();
+    }
+    template <class Box> static int nearest_face(const Box& b, const Vec3d& p) {
         int best = 0;
         double dmin = inf;
         for (int f = 0; f < 6; ++f) {
-            const Vec3d a = b.axes.col(f / 2);
-            const double h = (f % 2) ? b.half_extent[f / 2] : -b.half_extent[f / 2];
-            const double d = std::abs((p - b.center).dot(a) - h) / a.norm();
+            const double d = face_distance(b, f, p);
             if (d < dmin) dmin = d, best = f;
         }
         return best;
     }
 
-    SurfacePoint at(const Aabb<double>& b, const Rayd& ray, const Candidate& c) {
-        const auto [h, r] = box_face(b, ray, c);
-        SurfacePoint sp;
-        const int axis = h.face / 2;
-        sp.p = r.origin + h.t_enter * r.direction;
-        sp.p[axis] = (h.face % 2) ? b.hi[axis] : b.lo[axis];  // exact: E = 0, K = 0
-        // The exact hit point lies on the face: clamping the other coordinates into the
-        // face's rectangle can only bring p closer to it (it matters at edges, where a
-        // conservative t_exit may overshoot into the neighbouring slab).
+    // The face's point p brought onto the face where the box allows it, and its offset
+    // E + K (tracer.hpp). Aabb: the coordinate on the face's axis is set to lo or hi
+    // exactly (E = 0, K = 0); the exact hit point lies on the face, so clamping the other
+    // coordinates into the face's rectangle can only bring p closer to it (it matters at
+    // edges, where a conservative t_exit may overshoot into the neighbouring slab).
+    static double onto_face(const Aabb<double>& b, int face, Vec3d& p) {
+        const int axis = face / 2;
+        p[axis] = (face % 2) ? b.hi[axis] : b.lo[axis];
         for (int j = 0; j < 3; ++j)
-            if (j != axis) sp.p[j] = std::clamp(sp.p[j], b.lo[j], b.hi[j]);
-        sp.n = rayproof::normal(b, h, r);
-        sp.offset = 0;
-        return sp;
+            if (j != axis) p[j] = std::clamp(p[j], b.lo[j], b.hi[j]);
+        return 0;
     }
-
-    SurfacePoint at(const Obb<double>& b, const Rayd& ray, const Candidate& c) {
-        const auto [h, r] = box_face(b, ray, c);
-        SurfacePoint sp;
-        const int axis = h.face / 2;
-        sp.p = r.origin + h.t_enter * r.direction;
-        sp.n = rayproof::normal(b, h, r);
+    // Obb: p stays; E and K a posteriori from the residual (p - c)·a - h.
+    static double onto_face(const Obb<double>& b, int face, Vec3d& p) {
+        const int axis = face / 2;
         const Vec3d a = b.axes.col(axis);
-        const double hh = (h.face % 2) ? b.half_extent[axis] : -b.half_extent[axis];
-        const Vec3d pc = sp.p - b.center;
+        const double hh = (face % 2) ? b.half_extent[axis] : -b.half_extent[axis];
+        const Vec3d pc = p - b.center;
         const double g = pc.dot(a) - hh;
         const double terms = std::abs(pc[0] * a[0]) + std::abs(pc[1] * a[1]) + std::abs(pc[2] * a[2]);
         const double len = a.norm();
         const double e = (std::abs(g) + gamma_bound(5) * (terms + std::abs(hh))) / len;
         const double k = gamma_bound(12) * terms / len;
-        sp.offset = e + k;
+        return e + k;
+    }
+
+    // A box's surface point: on the face box_face names, at its t_enter.
+    template <class Box>
+        requires std::is_same_v<Box, Aabb<double>> || std::is_same_v<Box, Obb<double>>
+    SurfacePoint at(const Box& b, const Rayd& ray, const Candidate& c) {
+        const auto [h, r] = box_face(b, ray, c);
+        SurfacePoint sp;
+        sp.p = r.origin + h.t_enter * r.direction;
+        sp.offset = onto_face(b, h.face, sp.p);
+        sp.n = rayproof::normal(b, h, r);
         return sp;
     }
 
@@ -446,10 +444,6 @@ std::optional<Mode> parse_mode(std::string_view name) {
     return std::nullopt;
 }
 
-bool mode_available(Mode m) {
-    return with_mode(m, [](auto tag) { return mode_ready<decltype(tag)>; });
-}
-
 Ray<double> camera_ray(const Camera& cam, int width, int height, double px, double py) {
     const Vec3d f = (cam.look_at - cam.position).normalized();
     const Vec3d r = f.cross(cam.up).normalized();
@@ -484,31 +478,16 @@ std::optional<Vec3d> refract(const Vec3d& u, const Vec3d& n, double eta) {
 }
 
 RenderResult render(const Scene& scene, const RenderOptions& options) {
-    return with_mode(scene.settings.mode, [&](auto tag) -> RenderResult {
-        using M = decltype(tag);
-        if constexpr (mode_ready<M>) {
-            return render_in<M>(scene, options);
-        } else {
-            RenderResult r;
-            r.error = std::string("mode '") + mode_name(scene.settings.mode) +
-                      "' is not available in this build of the kernel";
-            return r;
-        }
-    });
+    return with_mode(scene.settings.mode, [&](auto tag) { return render_in<decltype(tag)>(scene, options); });
 }
 
 std::optional<Color> radiance(const Scene& scene, double px, double py, const TraceOptions& options, Stats* stats) {
     return with_mode(scene.settings.mode, [&](auto tag) -> std::optional<Color> {
-        using M = decltype(tag);
-        if constexpr (mode_ready<M>) {
-            Stats local;
-            Stats& st = stats ? *stats : local;
-            Tracer<M> tr(scene, options, st);
-            ++st.primary;
-            return tr.trace(camera_ray(scene.camera, scene.settings.width, scene.settings.height, px, py), 1, 1.0);
-        } else {
-            return std::nullopt;
-        }
+        Stats local;
+        Stats& st = stats ? *stats : local;
+        Tracer<decltype(tag)> tr(scene, options, st);
+        ++st.primary;
+        return tr.trace(camera_ray(scene.camera, scene.settings.width, scene.settings.height, px, py), 1, 1.0);
     });
 }
 

@@ -1,5 +1,5 @@
-// Shared by the tracer's tests: building small scenes in code, the list of modes this
-// build answers, and scratch-file paths.
+// Shared by the tracer's tests: building small scenes in code, the list of modes (every
+// mode: the kernel answers each shape in each), and scratch-file paths.
 #pragma once
 
 #include <rayproof/render/parse.hpp>
@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -19,12 +20,7 @@ inline void PrintTo(Mode m, std::ostream* os) { *os << mode_name(m); }
 
 namespace rayproof::render::testing {
 
-inline std::vector<Mode> available_modes() {
-    std::vector<Mode> v;
-    for (Mode m : all_modes)
-        if (mode_available(m)) v.push_back(m);
-    return v;
-}
+inline std::vector<Mode> available_modes() { return {std::begin(all_modes), std::end(all_modes)}; }
 
 inline std::string scene_path(const std::string& name) { return std::string(RAYPROOF_SCENES_DIR) + "/" + name; }
 

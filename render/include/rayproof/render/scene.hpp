@@ -23,9 +23,6 @@ enum class Mode { fast, conservative, certified };
 inline constexpr Mode all_modes[] = {Mode::fast, Mode::conservative, Mode::certified};
 const char* mode_name(Mode m);
 std::optional<Mode> parse_mode(std::string_view name);
-// True when this build of the kernel answers every shape of the tracer in mode m
-// (decided at compile time with rayproof::Answerable).
-bool mode_available(Mode m);
 
 // Pinhole camera: the eye is the centre of projection; the projection plane is at unit
 // distance along the view direction; fov is the vertical field of view in degrees.
