@@ -1,7 +1,8 @@
 # fuzz/common.sh — sourced by fuzz/ci.sh and fuzz/campaign.sh: the sanitizer build of the
 # fuzz targets in build/fuzz (clang, libFuzzer, ASan + UBSan, assertions on), the target
-# list, each target's dictionary and input-length limit (all three from fuzz/targets.txt),
-# and the parsing of libFuzzer's statistics.
+# list, each target's dictionary and input-length limit (all three from fuzz/targets.txt,
+# the sanitizer flags from fuzz/sanitizers.txt), and the parsing of libFuzzer's
+# statistics.
 #   RAYPROOF_FUZZ_CXX     the compiler (default clang++)
 #   RAYPROOF_FUZZ_RENDER  ON/OFF: build scene_fuzz (needs the tracer; default ON)
 #   RAYPROOF_JOBS         build jobs (default 2)
@@ -11,7 +12,7 @@ FUZZ_BUILD="$ROOT/build/fuzz"
 # The target lines of fuzz/targets.txt: "name links dictionary max_len".
 fuzz_target_lines() { grep -E '^[a-z]' "$ROOT/fuzz/targets.txt"; }
 mapfile -t FUZZ_TARGETS_ALL < <(fuzz_target_lines | awk '{ print $1 }')
-SANITIZE="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+SANITIZE="$(grep -v '^#' "$ROOT/fuzz/sanitizers.txt" | tr '\n' ' ' | sed -e 's/  */ /g' -e 's/^ //' -e 's/ $//')"
 
 # Configures and builds the fuzz targets; prints the build log's errors on failure.
 fuzz_build() {

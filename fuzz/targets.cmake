@@ -4,8 +4,10 @@
 # tests/regressions (the CTest replay of the regressions and the corpora in every build).
 #   RAYPROOF_FUZZ_SHAPE_TARGETS   the targets that link the oracle (ray vs shape)
 #   RAYPROOF_FUZZ_RENDER_TARGETS  the targets that link the tracer
+#   RAYPROOF_FUZZ_SANITIZER_FLAGS the flags of fuzz/sanitizers.txt, as a list
 set(RAYPROOF_FUZZ_DIR ${CMAKE_CURRENT_LIST_DIR})
-set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${RAYPROOF_FUZZ_DIR}/targets.txt)
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
+             ${RAYPROOF_FUZZ_DIR}/targets.txt ${RAYPROOF_FUZZ_DIR}/sanitizers.txt)
 
 set(RAYPROOF_FUZZ_SHAPE_TARGETS)
 set(RAYPROOF_FUZZ_RENDER_TARGETS)
@@ -21,6 +23,10 @@ foreach(_line IN LISTS _rayproof_fuzz_lines)
     list(APPEND RAYPROOF_FUZZ_RENDER_TARGETS ${CMAKE_MATCH_1})
   endif()
 endforeach()
+
+file(STRINGS ${RAYPROOF_FUZZ_DIR}/sanitizers.txt _rayproof_fuzz_san ENCODING UTF-8 REGEX "^[^#]")
+string(JOIN " " _rayproof_fuzz_san ${_rayproof_fuzz_san})
+separate_arguments(RAYPROOF_FUZZ_SANITIZER_FLAGS UNIX_COMMAND "${_rayproof_fuzz_san}")
 
 # libFuzzer's FuzzedDataProvider.h lives in clang's resource directory (Debian's
 # libclang-common-14-dev, pulled in by the clang package). Adding that whole directory
