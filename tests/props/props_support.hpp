@@ -7,7 +7,9 @@
 // grazing, near grazing, ±0 directions, boundary origins, extreme scenes, invalid inputs)
 // feeds every property, and a failure prints the call that rebuilds the case,
 //   rayproof::gen::make_case<double, rayproof::Aabb<double>>("grazing", 0x...)
-// together with the inputs in hexfloat and RapidCheck's own reproduce string.
+// together with the inputs in hexfloat and RapidCheck's own reproduce string. What each
+// mode promises against the exact oracle is decided by the shared contract checker
+// (rayproof/oracle/contract.hpp), as in the fuzz targets and the audit.
 //
 // A property about a mode the kernel does not provide (rayproof::Answerable false) is
 // skipped with GTEST_SKIP and its reason, never passed silently.
