@@ -60,28 +60,35 @@ for f in oracle/src/*.cpp; do
   ORACLE_OBJS+=("$o")
 done
 
-for t in ray_aabb_fuzz ray_obb_fuzz ray_plane_fuzz ray_sphere_fuzz; do
-  $CXX $FLAGS "fuzz/$t.cpp" "${ORACLE_OBJS[@]}" $LIB_FUZZING_ENGINE $GMP_LIBS -o "$OUT/$t"
-  cp fuzz/dict/geometry.dict "$OUT/$t.dict"
-  printf '[libfuzzer]\nmax_len = 512\n' >"$OUT/$t.options"
-done
-
-# scene_fuzz: the parser and the tracer (the command-line front end is left out).
+# The render targets' objects: the parser and the tracer (the command-line front end is
+# left out).
+RENDER_OBJS=()
 if [ -f render/src/parse.cpp ]; then
-  RENDER_OBJS=()
   for f in render/src/*.cpp; do
     [ "$(basename "$f")" = cli.cpp ] && continue
     o="$WORK/render_$(basename "${f%.cpp}").o"
     $CXX $FLAGS -c "$f" -o "$o"
     RENDER_OBJS+=("$o")
   done
-  $CXX $FLAGS fuzz/scene_fuzz.cpp "${RENDER_OBJS[@]}" $LIB_FUZZING_ENGINE $PNG_LIBS -lpthread -o "$OUT/scene_fuzz"
-  cp fuzz/dict/scene.dict "$OUT/scene_fuzz.dict"
-  printf '[libfuzzer]\nmax_len = 8192\n' >"$OUT/scene_fuzz.options"
 fi
 
+# The targets of fuzz/targets.txt: "name links dictionary max_len".
+TARGETS=()
+while read -r t links dict max_len; do
+  if [ "$links" = oracle ]; then
+    $CXX $FLAGS "fuzz/$t.cpp" "${ORACLE_OBJS[@]}" $LIB_FUZZING_ENGINE $GMP_LIBS -o "$OUT/$t"
+  elif [ ${#RENDER_OBJS[@]} -gt 0 ]; then
+    $CXX $FLAGS "fuzz/$t.cpp" "${RENDER_OBJS[@]}" $LIB_FUZZING_ENGINE $PNG_LIBS -lpthread -o "$OUT/$t"
+  else
+    continue
+  fi
+  cp "fuzz/dict/$dict" "$OUT/$t.dict"
+  printf '[libfuzzer]\nmax_len = %s\n' "$max_len" >"$OUT/$t.options"
+  TARGETS+=("$t")
+done < <(grep -E '^[a-z]' fuzz/targets.txt)
+
 # Seed corpora: the committed corpora plus the regressions.
-for t in ray_aabb_fuzz ray_obb_fuzz ray_plane_fuzz ray_sphere_fuzz scene_fuzz; do
+for t in "${TARGETS[@]}"; do
   [ -x "$OUT/$t" ] || continue
   rm -f "$OUT/${t}_seed_corpus.zip"
   files=$(find "fuzz/corpus/$t" "tests/regressions/$t" -type f ! -name '.*' 2>/dev/null || true)

@@ -37,10 +37,12 @@
 #include "embree_sphere.hpp"
 #endif
 
+#include <rayproof/oracle/contract.hpp>
 #include <rayproof/oracle/oracle.hpp>
 
 #include <algorithm>
 #include <chrono>
+#include <cinttypes>
 #include <memory>
 #include <cstdint>
 #include <cstdio>
@@ -68,12 +70,7 @@ struct Options {
     std::size_t show = 0;     // at most this many per (shape, type, workload)
 } opts;
 
-struct Tally {
-    std::size_t cases = 0, wrong = 0, false_hit = 0, false_miss = 0, invalid_mismatch = 0, face_mismatch = 0,
-                t_judged = 0, t_off = 0, not_enclosing = 0, exact_hits = 0, refused = 0;
-    std::uint64_t max_ulps = 0;
-    bool faces = true, times = true;
-};
+using oracle::Tally;
 
 enum Judge : unsigned { verdict_only = 0, face = 1, t_both = 2, t_enter_outside = 4, may_refuse = 8 };
 
@@ -85,28 +82,13 @@ template <class T> void tally(Tally& t, const Ray<T>& r, const Hit<T>& h, const 
         return;
     }
     const oracle::Judgement j = oracle::judge(h, ex, (what & face) != 0);
-    switch (j.outcome) {
-        case oracle::Outcome::false_hit: ++t.false_hit; break;
-        case oracle::Outcome::false_miss: ++t.false_miss; break;
-        case oracle::Outcome::invalid_mismatch: ++t.invalid_mismatch; break;
-        case oracle::Outcome::face_mismatch: ++t.face_mismatch; break;
-        case oracle::Outcome::agree: break;
-    }
-    t.wrong += j.verdict_wrong();
+    t.count_outcome(j);
     if (h.verdict != Verdict::hit || ex.verdict != Verdict::hit) return;
-    std::uint64_t ulps = 0;
     if (what & t_both) {
-        ulps = j.max_ulps();
-        t.not_enclosing += !j.encloses;
+        t.count_interval(j);
     } else if (what & t_enter_outside) {
-        if (!(r.t_min >= 0 && ex.enter_vs(r.t_min) == oracle::Order::below)) return;
-        ulps = j.enter_ulps;
-    } else {
-        return;
+        if (r.t_min >= 0 && ex.enter_vs(r.t_min) == oracle::Order::below) t.count_t(j.enter_ulps);
     }
-    ++t.t_judged;
-    t.t_off += ulps != 0;
-    t.max_ulps = std::max(t.max_ulps, ulps);
 }
 
 void print_header() {
@@ -115,20 +97,24 @@ void print_header() {
         "max_ulps,not_enclosing,exact_hits,refused,status\n");
 }
 
-template <class T, class Shape> void print_row(std::string_view w, const char* method, const Tally& t) {
+// faces / times: whether the method answers a face / a t (else those columns read n/a).
+template <class T, class Shape>
+void print_row(std::string_view w, const char* method, const Tally& t, bool faces, bool times) {
     char ulps[32];
-    if (!t.times || t.t_judged == 0)
+    if (!times || t.t_judged == 0)
         std::snprintf(ulps, sizeof ulps, "n/a");
     else if (t.max_ulps == std::numeric_limits<std::uint64_t>::max())
         std::snprintf(ulps, sizeof ulps, "inf");
     else
         std::snprintf(ulps, sizeof ulps, "%llu", static_cast<unsigned long long>(t.max_ulps));
-    const std::string face = t.faces ? std::to_string(t.face_mismatch) : "n/a";
-    const std::string t_judged = t.times ? std::to_string(t.t_judged) : "n/a";
-    const std::string t_off = t.times ? std::to_string(t.t_off) : "n/a";
-    const std::string encl = t.times ? std::to_string(t.not_enclosing) : "n/a";
-    std::printf("%s,%s,%.*s,%s,%zu,%zu,%zu,%zu,%zu,%s,%s,%s,%s,%s,%zu,%zu,ok\n", std::string(gen::shape_name<Shape>()).c_str(),
-                std::string(gen::scalar_name<T>()).c_str(), int(w.size()), w.data(), method, t.cases, t.wrong,
+    const std::string face = faces ? std::to_string(t.face_mismatch) : "n/a";
+    const std::string t_judged = times ? std::to_string(t.t_judged) : "n/a";
+    const std::string t_off = times ? std::to_string(t.t_off) : "n/a";
+    const std::string encl = times ? std::to_string(t.not_enclosing) : "n/a";
+    std::printf("%s,%s,%.*s,%s,%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%" PRIu64 ",%s,%s,%s,%s,%s,%" PRIu64
+                ",%" PRIu64 ",ok\n",
+                std::string(gen::shape_name<Shape>()).c_str(), std::string(gen::scalar_name<T>()).c_str(),
+                int(w.size()), w.data(), method, t.cases, t.wrong(),
                 t.false_hit, t.false_miss, t.invalid_mismatch, face.c_str(), t_judged.c_str(), t_off.c_str(), ulps,
                 encl.c_str(), t.exact_hits, t.refused);
     std::fflush(stdout);
@@ -160,8 +146,6 @@ void judge_method(std::string_view w, const char* method, const std::vector<Case
         opts.timeout,
         [&](Watchdog::Shared& s) {
             Tally t;
-            t.faces = (what & face) != 0;
-            t.times = (what & (t_both | t_enter_outside)) != 0;
             const bool show = opts.show > 0 && opts.show_method == method;
             std::size_t shown = 0;
             for (std::size_t i = 0; i < n; ++i) {
@@ -170,7 +154,7 @@ void judge_method(std::string_view w, const char* method, const std::vector<Case
                 const Tally before = t;
                 tally(t, cases[i].ray, h, exact[i], what);
                 const bool bad =
-                    t.wrong != before.wrong || t.face_mismatch != before.face_mismatch || t.t_off != before.t_off;
+                    t.wrong() != before.wrong() || t.face_mismatch != before.face_mismatch || t.t_off != before.t_off;
                 if (show && bad && shown < opts.show) {
                     ++shown;
                     std::cerr << w << " case " << i << ": " << cases[i] << "\n  answer " << h.verdict << " ["
@@ -178,7 +162,7 @@ void judge_method(std::string_view w, const char* method, const std::vector<Case
                               << h.face << "\n  exact  " << exact[i] << '\n';
                 }
             }
-            print_row<T, Shape>(w, method, t);
+            print_row<T, Shape>(w, method, t, (what & face) != 0, (what & (t_both | t_enter_outside)) != 0);
         },
         why);
     if (!ok) print_failure<T, Shape>(w, method, why);

@@ -9,7 +9,7 @@
 #   fuzz/campaign.sh [--minutes M] [--jobs J] [--targets "t1 t2"] [--no-merge]
 #     --minutes M   time per target (default 10; fractions allowed, e.g. 0.5)
 #     --jobs J      libFuzzer -fork=J worker processes (default 1)
-#     --targets     a subset of ray_aabb_fuzz ray_obb_fuzz ray_plane_fuzz ray_sphere_fuzz scene_fuzz
+#     --targets     a subset of the targets of fuzz/targets.txt (default: all that were built)
 #     --no-merge    leave fuzz/corpus/ untouched
 #   RAYPROOF_FUZZ_IGNORE / RAYPROOF_FUZZ_ONLY: triage filters (fuzz/fuzz_common.hpp)
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"

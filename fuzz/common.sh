@@ -1,6 +1,7 @@
 # fuzz/common.sh — sourced by fuzz/ci.sh and fuzz/campaign.sh: the sanitizer build of the
 # fuzz targets in build/fuzz (clang, libFuzzer, ASan + UBSan, assertions on), the target
-# list, each target's dictionary and input-length limit, and the parsing of libFuzzer's
+# list, each target's dictionary and input-length limit (all three from fuzz/targets.txt,
+# the sanitizer flags from fuzz/sanitizers.txt), and the parsing of libFuzzer's
 # statistics.
 #   RAYPROOF_FUZZ_CXX     the compiler (default clang++)
 #   RAYPROOF_FUZZ_RENDER  ON/OFF: build scene_fuzz (needs the tracer; default ON)
@@ -8,8 +9,10 @@
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 FUZZ_BUILD="$ROOT/build/fuzz"
-FUZZ_TARGETS_ALL=(ray_aabb_fuzz ray_obb_fuzz ray_plane_fuzz ray_sphere_fuzz scene_fuzz)
-SANITIZE="-fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+# The target lines of fuzz/targets.txt: "name links dictionary max_len".
+fuzz_target_lines() { grep -E '^[a-z]' "$ROOT/fuzz/targets.txt"; }
+mapfile -t FUZZ_TARGETS_ALL < <(fuzz_target_lines | awk '{ print $1 }')
+SANITIZE="$(grep -v '^#' "$ROOT/fuzz/sanitizers.txt" | tr '\n' ' ' | sed -e 's/  */ /g' -e 's/^ //' -e 's/ $//')"
 
 # Configures and builds the fuzz targets; prints the build log's errors on failure.
 fuzz_build() {
@@ -36,8 +39,9 @@ fuzz_targets() {
 }
 
 fuzz_bin() { echo "$FUZZ_BUILD/fuzz/$1"; }
-fuzz_dict() { [ "$1" = scene_fuzz ] && echo "$ROOT/fuzz/dict/scene.dict" || echo "$ROOT/fuzz/dict/geometry.dict"; }
-fuzz_max_len() { [ "$1" = scene_fuzz ] && echo 8192 || echo 512; }
+fuzz_target_field() { fuzz_target_lines | awk -v t="$1" -v f="$2" '$1 == t { print $f }'; }
+fuzz_dict() { echo "$ROOT/fuzz/dict/$(fuzz_target_field "$1" 3)"; }
+fuzz_max_len() { fuzz_target_field "$1" 4; }
 
 # The regression inputs of a target (files not starting with '.').
 regression_files() {

@@ -1,5 +1,6 @@
 // fuzz_check.hpp — what the ray/shape fuzz targets check on every decoded case: each of
-// the three modes against the exact oracle, per the contract, plus batch == scalar.
+// the three modes against the exact oracle, per the contract (the shared checker,
+// rayproof/oracle/contract.hpp), plus batch == scalar.
 //
 //   every mode      invalid exactly when the oracle says invalid (never invalid_mismatch);
 //                   a hit never carries NaN in t_enter or t_exit
@@ -21,6 +22,7 @@
 #include "fuzz_decode.hpp"
 
 #include <rayproof/io.hpp>
+#include <rayproof/oracle/contract.hpp>
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
 
@@ -35,8 +37,6 @@
 #include <string>
 
 namespace rayproof::fuzz {
-
-template <class T, class Shape> constexpr bool is_box = std::is_same_v<Shape, Aabb<T>> || std::is_same_v<Shape, Obb<T>>;
 
 template <class T, class Shape> const char* shape_label() {
     if constexpr (std::is_same_v<Shape, Aabb<T>>) return "Aabb";
@@ -70,38 +70,17 @@ template <class T> bool same_answer(const Hit<T>& a, const Hit<T>& b) {
     return same_bits(a.t_enter, b.t_enter) && same_bits(a.t_exit, b.t_exit) && a.face == b.face;
 }
 
+// The first breach of the mode's contract, if any, is reported (the breaches of the
+// answer's form without the judgement, the others with it).
 template <class T, class Shape, class Mode>
 void check_mode(const Ray<T>& ray, const Shape& shape, const oracle::Exact<T>& ex, Mode mode) {
-    const char* name = mode_name(mode);
     const Hit<T> hit = intersect(ray, shape, mode);
-    if (hit.verdict != Verdict::miss && hit.verdict != Verdict::hit && hit.verdict != Verdict::invalid)
-        violation("verdict out of range", name, ray, shape, hit, ex, nullptr);
-    if (hit.verdict == Verdict::hit && (std::isnan(hit.t_enter) || std::isnan(hit.t_exit)))
-        violation("NaN in a hit", name, ray, shape, hit, ex, nullptr);
-
-    constexpr bool is_fast = std::is_same_v<Mode, fast_t>;
-    constexpr bool is_certified = std::is_same_v<Mode, certified_t>;
-    const oracle::Judgement j = oracle::judge(hit, ex, /*compare_face=*/is_certified);
-    if (j.outcome == oracle::Outcome::invalid_mismatch)
-        violation(ex.verdict == Verdict::invalid ? "invalid input not reported" : "valid input reported invalid", name, ray,
-                  shape, hit, ex, &j);
-    if constexpr (is_fast) return;
-
-    if constexpr (is_certified) {
-        if (!j.exact_match()) violation("certified answer not exact", name, ray, shape, hit, ex, &j);
-    } else {
-        if (j.outcome == oracle::Outcome::false_miss) violation("conservative missed an exact hit", name, ray, shape, hit, ex, &j);
-        if (!j.encloses) violation("conservative interval does not enclose the exact one", name, ray, shape, hit, ex, &j);
-    }
-    if (hit.verdict == Verdict::hit) {
-        if (!(ray.t_min <= hit.t_enter && hit.t_enter <= hit.t_exit && hit.t_exit <= ray.t_max))
-            violation("hit interval not ordered within [t_min, t_max]", name, ray, shape, hit, ex, &j);
-        if constexpr (is_box<T, Shape>) {
-            if (hit.face < -1 || hit.face > 5) violation("face out of range", name, ray, shape, hit, ex, &j);
-        } else {
-            if (hit.face != -1) violation("face must be -1 for this shape", name, ray, shape, hit, ex, &j);
-        }
-    }
+    const oracle::ContractCheck c = oracle::check_contract(ray, shape, hit, ex, mode);
+    if (c.ok()) return;
+    const oracle::Breach first = c.first();
+    const oracle::Judgement j = c.mode_judgement();
+    const bool form = first == oracle::Breach::verdict_out_of_range || first == oracle::Breach::nan_in_hit;
+    violation(oracle::describe(first), mode_name(mode), ray, shape, hit, ex, form ? nullptr : &j);
 }
 
 template <class T, class Shape, class Mode> void check_batch(const Ray<T>& ray, const Shape& shape, Mode mode) {

@@ -39,6 +39,7 @@
 
 #include <fuzzer/FuzzedDataProvider.h>  // clang's; copied into the build tree for g++ (targets.cmake)
 
+#include <rayproof/rayproof.hpp>  // rayproof::detail::next_up / next_down
 #include <rayproof/types.hpp>
 
 #include <array>
@@ -72,8 +73,9 @@ enum Class : unsigned { small_int = 0, int16 = 1, special = 2, copy = 3, raw = 4
 // Ulp moves of the copy class (parameter n >> 1): mostly the value itself or a neighbour.
 inline constexpr int kCopySteps[16] = {0, 0, 0, 0, 1, -1, 1, -1, 2, -2, 3, -3, 16, -16, 1024, -1024};
 
-template <class T> T next_up(T x) { return std::nextafter(x, std::numeric_limits<T>::infinity()); }
-template <class T> T next_down(T x) { return std::nextafter(x, -std::numeric_limits<T>::infinity()); }
+// The neighbours of x towards +inf / -inf: the kernel's own.
+using ::rayproof::detail::next_down;
+using ::rayproof::detail::next_up;
 template <class T> T nudged(T x, int steps) {
     if (std::isnan(x)) return x;
     for (; steps > 0; --steps) x = next_up(x);

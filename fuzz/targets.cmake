@@ -1,9 +1,32 @@
-# fuzz/targets.cmake — the fuzz targets' names and their plain replay executables
-# (<target>_replay: the harness with replay_main.cpp instead of a fuzzing engine, any
-# compiler), shared by fuzz/CMakeLists.txt (the fuzzing build) and tests/regressions
-# (the CTest replay of the regressions and the corpora in every build).
+# fuzz/targets.cmake — the fuzz targets' names (read from fuzz/targets.txt) and their
+# plain replay executables (<target>_replay: the harness with replay_main.cpp instead of
+# a fuzzing engine, any compiler), shared by fuzz/CMakeLists.txt (the fuzzing build) and
+# tests/regressions (the CTest replay of the regressions and the corpora in every build).
+#   RAYPROOF_FUZZ_SHAPE_TARGETS   the targets that link the oracle (ray vs shape)
+#   RAYPROOF_FUZZ_RENDER_TARGETS  the targets that link the tracer
+#   RAYPROOF_FUZZ_SANITIZER_FLAGS the flags of fuzz/sanitizers.txt, as a list
 set(RAYPROOF_FUZZ_DIR ${CMAKE_CURRENT_LIST_DIR})
-set(RAYPROOF_FUZZ_SHAPE_TARGETS ray_aabb_fuzz ray_obb_fuzz ray_plane_fuzz ray_sphere_fuzz)
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
+             ${RAYPROOF_FUZZ_DIR}/targets.txt ${RAYPROOF_FUZZ_DIR}/sanitizers.txt)
+
+set(RAYPROOF_FUZZ_SHAPE_TARGETS)
+set(RAYPROOF_FUZZ_RENDER_TARGETS)
+file(STRINGS ${RAYPROOF_FUZZ_DIR}/targets.txt _rayproof_fuzz_lines ENCODING UTF-8 REGEX "^[a-z]")
+foreach(_line IN LISTS _rayproof_fuzz_lines)
+  string(REGEX MATCH "^([a-z0-9_]+)[ \t]+(oracle|render)[ \t]" _match "${_line}")
+  if(NOT _match)
+    message(FATAL_ERROR "fuzz/targets.txt: cannot read the line '${_line}'")
+  endif()
+  if(CMAKE_MATCH_2 STREQUAL "oracle")
+    list(APPEND RAYPROOF_FUZZ_SHAPE_TARGETS ${CMAKE_MATCH_1})
+  else()
+    list(APPEND RAYPROOF_FUZZ_RENDER_TARGETS ${CMAKE_MATCH_1})
+  endif()
+endforeach()
+
+file(STRINGS ${RAYPROOF_FUZZ_DIR}/sanitizers.txt _rayproof_fuzz_san ENCODING UTF-8 REGEX "^[^#]")
+string(JOIN " " _rayproof_fuzz_san ${_rayproof_fuzz_san})
+separate_arguments(RAYPROOF_FUZZ_SANITIZER_FLAGS UNIX_COMMAND "${_rayproof_fuzz_san}")
 
 # libFuzzer's FuzzedDataProvider.h lives in clang's resource directory (Debian's
 # libclang-common-14-dev, pulled in by the clang package). Adding that whole directory
@@ -22,10 +45,11 @@ if(NOT RAYPROOF_FDP_DIR)
   endif()
 endif()
 
-# What a harness links: the shape targets the kernel and the oracle; scene_fuzz the tracer.
+# What a harness links: the shape targets the kernel and the oracle; the render targets
+# (scene_fuzz) the tracer.
 function(rayproof_fuzz_link exe harness)
   target_include_directories(${exe} PRIVATE ${RAYPROOF_FUZZ_DIR} ${RAYPROOF_FDP_DIR})
-  if(harness STREQUAL "scene_fuzz")
+  if(harness IN_LIST RAYPROOF_FUZZ_RENDER_TARGETS)
     target_link_libraries(${exe} PRIVATE rayproof::render rayproof::kernel)
   else()
     target_link_libraries(${exe} PRIVATE rayproof::oracle rayproof::kernel)

@@ -7,13 +7,16 @@
 // grazing, near grazing, ±0 directions, boundary origins, extreme scenes, invalid inputs)
 // feeds every property, and a failure prints the call that rebuilds the case,
 //   rayproof::gen::make_case<double, rayproof::Aabb<double>>("grazing", 0x...)
-// together with the inputs in hexfloat and RapidCheck's own reproduce string.
+// together with the inputs in hexfloat and RapidCheck's own reproduce string. What each
+// mode promises against the exact oracle is decided by the shared contract checker
+// (rayproof/oracle/contract.hpp), as in the fuzz targets and the audit.
 //
 // A property about a mode the kernel does not provide (rayproof::Answerable false) is
 // skipped with GTEST_SKIP and its reason, never passed silently.
 #pragma once
 
 #include <rayproof/generators.hpp>
+#include <rayproof/oracle/contract.hpp>
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
 
@@ -102,10 +105,11 @@ template <class T, class Shape> struct Tester {
     static void invalid_agrees() {
         rc::detail::checkGTest([] {
             const auto d = draw<T, Shape>();
-            const bool exact_invalid = oracle::exact(d.c.ray, d.c.shape).verdict == Verdict::invalid;
+            const auto e = oracle::exact(d.c.ray, d.c.shape);
+            const bool exact_invalid = e.verdict == Verdict::invalid;
             for_each_mode<T, Shape>([&](auto mode) {
                 const Hit<T> h = intersect(d.c.ray, d.c.shape, mode);
-                if ((h.verdict == Verdict::invalid) != exact_invalid)
+                if (oracle::check_contract(d.c.ray, d.c.shape, h, e, mode).invalid_mismatch())
                     RC_FAIL(std::string(mode_name(mode)) + " answered " + to_string(h.verdict) + ", exact validity is " +
                             (exact_invalid ? "invalid" : "valid") + "\n  " + d.where());
             });
@@ -121,11 +125,10 @@ template <class T, class Shape> struct Tester {
                 const auto d = draw<T, Shape>();
                 const auto e = oracle::exact(d.c.ray, d.c.shape);
                 const Hit<T> h = intersect(d.c.ray, d.c.shape, conservative);
-                const auto j = oracle::judge(h, e, /*compare_face=*/false);
-                if (j.outcome == oracle::Outcome::false_miss || j.outcome == oracle::Outcome::invalid_mismatch ||
-                    !j.encloses) {
+                const auto c = oracle::check_contract(d.c.ray, d.c.shape, h, e, conservative);
+                if (c.promise_broken()) {
                     std::ostringstream os;
-                    os << "conservative " << h << "\n  " << e << "\n  " << j << "\n  " << d.where();
+                    os << "conservative " << h << "\n  " << e << "\n  " << c.mode_judgement() << "\n  " << d.where();
                     RC_FAIL(os.str());
                 }
             });
@@ -141,10 +144,10 @@ template <class T, class Shape> struct Tester {
                 const auto d = draw<T, Shape>();
                 const auto e = oracle::exact(d.c.ray, d.c.shape);
                 const Hit<T> h = intersect(d.c.ray, d.c.shape, certified);
-                const auto j = oracle::judge(h, e);
-                if (!j.exact_match()) {
+                const auto c = oracle::check_contract(d.c.ray, d.c.shape, h, e, certified);
+                if (c.promise_broken()) {
                     std::ostringstream os;
-                    os << "certified " << h << "\n  " << e << "\n  " << j << "\n  " << d.where();
+                    os << "certified " << h << "\n  " << e << "\n  " << c.mode_judgement() << "\n  " << d.where();
                     RC_FAIL(os.str());
                 }
             });
@@ -349,24 +352,24 @@ template <class T, class Shape> struct Tester {
               << " cases per generator:\n";
         for (const auto& g : gen::generators<T, Shape>()) {
             gen::Rng rng(0xfa57 ^ gen::name_hash(g.name));
-            int wrong = 0, false_miss = 0, false_hit = 0, face = 0, unfaithful = 0, incoherent = 0, invalid = 0;
-            std::uint64_t max_ulps = 0;
+            oracle::Tally t;
+            int invalid = 0;
             for (int i = 0; i < kCases; ++i) {
                 const auto c = g.make(rng);
                 const auto e = oracle::exact(c.ray, c.shape);
                 const Hit<T> h = intersect(c.ray, c.shape, fast);
-                const auto j = oracle::judge(h, e);
+                const auto check = oracle::check_contract(c.ray, c.shape, h, e, fast);
                 invalid += e.verdict == Verdict::invalid;
-                ASSERT_NE(j.outcome, oracle::Outcome::invalid_mismatch)
+                ASSERT_FALSE(check.promise_broken())  // the fast mode's promise: validity
                     << "fast " << h << " vs " << e << "\n  " << g.name << " case " << i << ": " << c;
-                wrong += j.verdict_wrong();
-                false_miss += j.outcome == oracle::Outcome::false_miss;
-                false_hit += j.outcome == oracle::Outcome::false_hit;
-                face += j.outcome == oracle::Outcome::face_mismatch;
-                unfaithful += j.max_ulps() > 0;
-                incoherent += h.verdict == Verdict::hit && !(h.t_enter <= h.t_exit);
-                max_ulps = std::max(max_ulps, j.max_ulps());
+                ++t.cases;
+                t.count_outcome(check.judgement);
+                if (h.verdict == Verdict::hit && e.verdict == Verdict::hit) t.count_interval(check.judgement);
+                t.count_coherence(h);
             }
+            const std::uint64_t wrong = t.wrong(), false_miss = t.false_miss, false_hit = t.false_hit,
+                                face = t.face_mismatch, unfaithful = t.t_off, incoherent = t.incoherent,
+                                max_ulps = t.max_ulps;
             if (g.name == "invalid") {
                 EXPECT_EQ(invalid, kCases) << "the invalid generator made valid inputs";
             } else if (g.name == "log_uniform") {
@@ -380,8 +383,8 @@ template <class T, class Shape> struct Tester {
                   << (max_ulps == std::numeric_limits<std::uint64_t>::max() ? std::string("NaN")
                                                                             : std::to_string(max_ulps))
                   << " ulps, hits with t_enter > t_exit or NaN " << incoherent << '\n';
-            ::testing::Test::RecordProperty(std::string(g.name) + "_wrong_verdicts", wrong);
-            ::testing::Test::RecordProperty(std::string(g.name) + "_false_misses", false_miss);
+            ::testing::Test::RecordProperty(std::string(g.name) + "_wrong_verdicts", int(wrong));
+            ::testing::Test::RecordProperty(std::string(g.name) + "_false_misses", int(false_miss));
         }
         std::cout << table.str();
     }

@@ -16,6 +16,7 @@
 // Rows are computed in parallel (--jobs, default: the hardware threads); the output does
 // not depend on the number of jobs.
 #include <rayproof/generators.hpp>
+#include <rayproof/oracle/contract.hpp>
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
 
@@ -124,14 +125,12 @@ std::uint64_t case_seed(std::uint64_t master, std::string_view shape, std::strin
     return splitmix(h + i);
 }
 
-enum class ModeId { fast, conservative, certified };
-const char* mode_label(ModeId m) {
-    return m == ModeId::fast ? "fast" : m == ModeId::conservative ? "conservative" : "certified";
-}
+using oracle::ModeId;
+const char* mode_label(ModeId m) { return oracle::to_string(m); }
 
+// One row's counts (t_off: answers whose t is not faithful) and its first wrong answers.
 struct Stats {
-    std::uint64_t cases = 0, false_hit = 0, false_miss = 0, invalid_mismatch = 0, face_mismatch = 0,
-                  not_faithful = 0, not_enclosing = 0, incoherent = 0, violations = 0, max_ulps = 0;
+    oracle::Tally tally;
     std::vector<std::string> examples;
 };
 
@@ -160,45 +159,27 @@ struct Job {
     double seconds = 0;
 };
 
-// Whether the answer breaks what the mode promises (CONTRACT.md's table); the fast mode
-// promises only that invalid inputs are answered invalid.
-bool violates(ModeId m, const oracle::Judgement& j) {
-    switch (m) {
-        case ModeId::fast: return j.outcome == oracle::Outcome::invalid_mismatch;
-        case ModeId::conservative:
-            return j.outcome == oracle::Outcome::invalid_mismatch || j.outcome == oracle::Outcome::false_miss ||
-                   !j.encloses;
-        case ModeId::certified: return !j.exact_match();
-    }
-    return true;
-}
-
-template <class T> bool incoherent(const Hit<T>& h) {
-    return h.verdict == Verdict::hit && !(h.t_enter <= h.t_exit);  // NaN included
-}
-
+// A contract violation: the answer breaks what its mode promises against the exact answer
+// (oracle::check_contract, after docs/semantics.md's table; the fast mode promises only
+// that invalid inputs are answered invalid), or verdict() differs from the full answer.
 template <class T, class Shape, class Mode>
-void judge_into(Stats& s, const gen::Case<T, Shape>& c, const oracle::Exact<T>& e, Mode mode, ModeId id,
-                std::uint64_t seed, unsigned max_examples) {
+void judge_into(Stats& s, const gen::Case<T, Shape>& c, const oracle::Exact<T>& e, Mode mode, std::uint64_t seed,
+                unsigned max_examples) {
+    const ModeId id = oracle::mode_id(mode);
     const Hit<T> h = intersect(c.ray, c.shape, mode);
-    const oracle::Judgement j = oracle::judge(h, e);
-    ++s.cases;
-    switch (j.outcome) {
-        case oracle::Outcome::false_hit: ++s.false_hit; break;
-        case oracle::Outcome::false_miss: ++s.false_miss; break;
-        case oracle::Outcome::invalid_mismatch: ++s.invalid_mismatch; break;
-        case oracle::Outcome::face_mismatch: ++s.face_mismatch; break;
-        case oracle::Outcome::agree: break;
-    }
-    if (j.max_ulps() > 0) ++s.not_faithful;
-    if (!j.encloses) ++s.not_enclosing;
-    s.max_ulps = std::max(s.max_ulps, j.max_ulps());
-    const bool bad_coherence = incoherent(h);
-    if (bad_coherence) ++s.incoherent;
+    const oracle::ContractCheck check = oracle::check_contract(c.ray, c.shape, h, e, mode);
+    const oracle::Judgement& j = check.judgement;
+    oracle::Tally& t = s.tally;
+    ++t.cases;
+    t.count_outcome(j);
+    if (h.verdict == Verdict::hit && e.verdict == Verdict::hit) t.count_interval(j);
+    const std::uint64_t incoherent_before = t.incoherent;
+    t.count_coherence(h);
+    const bool bad_coherence = t.incoherent != incoherent_before;
     // verdict() promises the full answer's verdict in every mode.
     const Verdict alone = verdict(c.ray, c.shape, mode);
-    const bool v = violates(id, j) || alone != h.verdict;
-    if (v) ++s.violations;
+    const bool v = check.promise_broken() || alone != h.verdict;
+    if (v) ++t.violations;
     if (s.examples.size() < max_examples && (j.verdict_wrong() || v || bad_coherence)) {
         std::ostringstream os;
         os << "seed 0x" << std::hex << seed << std::dec << ": " << c << "\n    " << mode_label(id) << ": " << h
@@ -231,11 +212,11 @@ void add_jobs(const Options& o, std::vector<Job>& jobs) {
                 gen::Rng rng(seed);
                 const gen::Case<T, Shape> c = make(rng);
                 const oracle::Exact<T> e = oracle::exact(c.ray, c.shape);
-                judge_into(rows[0].stats, c, e, fast, ModeId::fast, seed, o.examples);
+                judge_into(rows[0].stats, c, e, fast, seed, o.examples);
                 if constexpr (Answerable<T, Shape, conservative_t>)
-                    judge_into(rows[1].stats, c, e, conservative, ModeId::conservative, seed, o.examples);
+                    judge_into(rows[1].stats, c, e, conservative, seed, o.examples);
                 if constexpr (Answerable<T, Shape, certified_t>)
-                    judge_into(rows[2].stats, c, e, certified, ModeId::certified, seed, o.examples);
+                    judge_into(rows[2].stats, c, e, certified, seed, o.examples);
             }
             slot.since_ms = -1;
         };
@@ -343,18 +324,18 @@ int main(int argc, char** argv) {
         }
 
     std::uint64_t total_violations = 0;
-    for (const Row* r : rows) total_violations += r->stats.violations;
+    for (const Row* r : rows) total_violations += r->stats.tally.violations;
 
     if (o.format == "csv") {
         std::cout << "shape,type,generator,mode,cases,wrong_verdict_rate,false_hits,false_misses,invalid_mismatches,"
                      "face_mismatches,t_not_faithful,t_not_enclosing,incoherent_hits,max_t_error_ulps,contract_violations\n";
         for (const Row* r : rows) {
-            const Stats& s = r->stats;
-            const std::uint64_t wrong = s.false_hit + s.false_miss + s.invalid_mismatch;
+            const oracle::Tally& s = r->stats.tally;
+            const std::uint64_t wrong = s.wrong();
             std::cout << r->shape << ',' << r->type << ',' << r->generator << ',' << mode_label(r->mode) << ','
                       << s.cases << ',' << std::setprecision(6) << double(wrong) / double(s.cases) << ','
                       << s.false_hit << ',' << s.false_miss << ',' << s.invalid_mismatch << ',' << s.face_mismatch
-                      << ',' << s.not_faithful << ',' << s.not_enclosing << ',' << s.incoherent << ','
+                      << ',' << s.t_off << ',' << s.not_enclosing << ',' << s.incoherent << ','
                       << ulps_text(s.max_ulps) << ',' << s.violations << '\n';
         }
     } else {
@@ -372,11 +353,11 @@ int main(int argc, char** argv) {
                      "mismatches | face mismatches | t not faithful | max t error (ulps) | contract violations |\n"
                      "|---|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|\n";
         for (const Row* r : rows) {
-            const Stats& s = r->stats;
-            const std::uint64_t wrong = s.false_hit + s.false_miss + s.invalid_mismatch;
+            const oracle::Tally& s = r->stats.tally;
+            const std::uint64_t wrong = s.wrong();
             std::cout << "| " << r->shape << " | " << r->type << " | " << r->generator << " | " << mode_label(r->mode)
                       << " | " << percent(wrong, s.cases) << " | " << s.false_hit << " | " << s.false_miss << " | "
-                      << s.invalid_mismatch << " | " << s.face_mismatch << " | " << percent(s.not_faithful, s.cases)
+                      << s.invalid_mismatch << " | " << s.face_mismatch << " | " << percent(s.t_off, s.cases)
                       << " | " << ulps_text(s.max_ulps) << " | " << s.violations << " |\n";
         }
         std::cout << "\nLegend: *wrong verdict* is the share of cases whose verdict differs from the exact one "
@@ -388,7 +369,7 @@ int main(int argc, char** argv) {
                      "the exact one; certified, any answer other than the exact verdict and face with faithful "
                      "t; every mode, verdict() (the verdict alone) differing from the full answer's verdict.\n";
         std::uint64_t incoherent = 0;
-        for (const Row* r : rows) incoherent += r->stats.incoherent;
+        for (const Row* r : rows) incoherent += r->stats.tally.incoherent;
         if (incoherent)
             std::cout << "\n" << incoherent
                       << " answers were `hit` with t_enter > t_exit or a NaN t (see --examples).\n";

@@ -25,11 +25,11 @@
 //   invalid       one invalid input class of the contract per case, every class drawn
 #pragma once
 
-#include <rayproof/generators/aabb.hpp>
+#include <rayproof/generators/ray_aabb.hpp>
 #include <rayproof/generators/core.hpp>
-#include <rayproof/generators/obb.hpp>
-#include <rayproof/generators/plane.hpp>
-#include <rayproof/generators/sphere.hpp>
+#include <rayproof/generators/ray_obb.hpp>
+#include <rayproof/generators/ray_plane.hpp>
+#include <rayproof/generators/ray_sphere.hpp>
 
 #include <span>
 #include <string_view>
@@ -42,38 +42,28 @@ template <class T, class Shape> struct Generator {
 };
 
 namespace detail {
+// The families every shape has, in registry order: shape_general<T>, ..., shape_extreme<T>
+// (the invalid one comes last, after any family of the shape's own).
+#define RAYPROOF_GEN_FAMILIES(shape)                                                                       \
+    {"general", shape##_general<T>}, {"log_uniform", shape##_log_uniform<T>}, {"grazing", shape##_grazing<T>},  \
+        {"near_grazing", shape##_near_grazing<T>}, {"parallel", shape##_parallel<T>},                          \
+        {"on_boundary", shape##_on_boundary<T>}, {"extreme", shape##_extreme<T>}
+
 template <class T, class Shape> struct Registry;
 template <class T> struct Registry<T, Aabb<T>> {
-    static constexpr Generator<T, Aabb<T>> list[] = {
-        {"general", aabb_general<T>},           {"log_uniform", aabb_log_uniform<T>}, {"grazing", aabb_grazing<T>},
-        {"near_grazing", aabb_near_grazing<T>}, {"parallel", aabb_parallel<T>},       {"on_boundary", aabb_on_boundary<T>},
-        {"extreme", aabb_extreme<T>},           {"invalid", aabb_invalid<T>},
-    };
+    static constexpr Generator<T, Aabb<T>> list[] = {RAYPROOF_GEN_FAMILIES(aabb), {"invalid", aabb_invalid<T>}};
 };
 template <class T> struct Registry<T, Obb<T>> {
     static constexpr Generator<T, Obb<T>> list[] = {
-        {"general", obb_general<T>},           {"log_uniform", obb_log_uniform<T>},
-        {"grazing", obb_grazing<T>},           {"near_grazing", obb_near_grazing<T>},
-        {"parallel", obb_parallel<T>},         {"on_boundary", obb_on_boundary<T>},
-        {"extreme", obb_extreme<T>},           {"rotated_integer", obb_rotated_integer<T>},
-        {"invalid", obb_invalid<T>},
-    };
+        RAYPROOF_GEN_FAMILIES(obb), {"rotated_integer", obb_rotated_integer<T>}, {"invalid", obb_invalid<T>}};
 };
 template <class T> struct Registry<T, Plane<T>> {
-    static constexpr Generator<T, Plane<T>> list[] = {
-        {"general", plane_general<T>},           {"log_uniform", plane_log_uniform<T>}, {"grazing", plane_grazing<T>},
-        {"near_grazing", plane_near_grazing<T>}, {"parallel", plane_parallel<T>},       {"on_boundary", plane_on_boundary<T>},
-        {"extreme", plane_extreme<T>},           {"invalid", plane_invalid<T>},
-    };
+    static constexpr Generator<T, Plane<T>> list[] = {RAYPROOF_GEN_FAMILIES(plane), {"invalid", plane_invalid<T>}};
 };
 template <class T> struct Registry<T, Sphere<T>> {
-    static constexpr Generator<T, Sphere<T>> list[] = {
-        {"general", sphere_general<T>},           {"log_uniform", sphere_log_uniform<T>},
-        {"grazing", sphere_grazing<T>},           {"near_grazing", sphere_near_grazing<T>},
-        {"parallel", sphere_parallel<T>},         {"on_boundary", sphere_on_boundary<T>},
-        {"extreme", sphere_extreme<T>},           {"invalid", sphere_invalid<T>},
-    };
+    static constexpr Generator<T, Sphere<T>> list[] = {RAYPROOF_GEN_FAMILIES(sphere), {"invalid", sphere_invalid<T>}};
 };
+#undef RAYPROOF_GEN_FAMILIES
 }  // namespace detail
 
 // All generators for one shape, in a fixed order.

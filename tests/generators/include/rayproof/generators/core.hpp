@@ -12,6 +12,7 @@
 #pragma once
 
 #include <rayproof/io.hpp>
+#include <rayproof/rayproof.hpp>  // rayproof::detail::next_up / next_down
 #include <rayproof/types.hpp>
 
 #include <Eigen/Geometry>  // cross products
@@ -90,8 +91,9 @@ template <class T> inline constexpr T kNaN = std::numeric_limits<T>::quiet_NaN()
 template <class T> T from_bits(Bits<T> b) { return std::bit_cast<T>(b); }
 template <class T> Bits<T> to_bits(T x) { return std::bit_cast<Bits<T>>(x); }
 
-template <class T> T next_up(T x) { return std::nextafter(x, kInf<T>); }
-template <class T> T next_down(T x) { return std::nextafter(x, -kInf<T>); }
+// The neighbours of x towards +inf / -inf: the kernel's own.
+using ::rayproof::detail::next_down;
+using ::rayproof::detail::next_up;
 // x moved by `steps` representable values (positive: up).
 template <class T> T nudge(T x, int steps) {
     for (; steps > 0; --steps) x = next_up(x);
@@ -429,6 +431,54 @@ template <class T> void break_ray(Ray<T>& r, RayFault f, Rng& rng) {
             break;
         case RayFault::count: break;
     }
+}
+
+// ---------------------------------------------------------------------------------
+// The frames the shapes' generators share (each shape file fills in its geometry).
+
+// A constructed case: `build(c)` draws integer geometry into a fresh case named `name`
+// and returns false when some number would not be exact in T; then a fresh case is
+// drawn. The case built is rescaled by random_exact_scaling.
+template <class T, class Shape, class Build> Case<T, Shape> constructed(std::string_view name, Rng& rng, Build build) {
+    for (;;) {
+        Case<T, Shape> c{{}, {}, name};
+        if (!build(c)) continue;
+        random_exact_scaling(c, rng);
+        return c;
+    }
+}
+
+// A near_grazing case from a grazing one: an axis i drawn, `nudge_one(c, i)` moving one
+// number of the case by an ulp or so, and the direction kept nonzero (a nudge may turn
+// its only nonzero component into zero).
+template <class T, class Shape, class Nudge>
+Case<T, Shape> near_grazing_from(Case<T, Shape> c, Rng& rng, Nudge nudge_one) {
+    c.generator = "near_grazing";
+    const int i = int(below(rng, 3));
+    nudge_one(c, i);
+    if (c.ray.direction.isZero()) c.ray.direction[i] = std::numeric_limits<T>::denorm_min();
+    return c;
+}
+
+// Whether an invalid generator draws an axis (after the fault, before breaking anything).
+enum class FaultAxis { none, drawn };
+
+// An invalid case from a valid one (a general or a grazing case, drawn with equal
+// chance): one fault among the ray's RayFault::count and the shape's `shape_faults`,
+// drawn uniformly; a ray fault is applied by break_ray, shape fault k (0-based) by
+// `break_shape(c, k, axis)`, axis -1 unless FaultAxis::drawn.
+template <class T, class Shape, class BreakShape>
+Case<T, Shape> invalid_from(Case<T, Shape> (*general)(Rng&), Case<T, Shape> (*grazing)(Rng&), Rng& rng,
+                            unsigned shape_faults, FaultAxis axis, BreakShape break_shape) {
+    Case<T, Shape> c = chance(rng, 1, 2) ? general(rng) : grazing(rng);
+    c.generator = "invalid";
+    const auto k = below(rng, unsigned(RayFault::count) + shape_faults);
+    const int i = axis == FaultAxis::drawn ? int(below(rng, 3)) : -1;
+    if (k < unsigned(RayFault::count))
+        break_ray(c.ray, RayFault(k), rng);
+    else
+        break_shape(c, unsigned(k) - unsigned(RayFault::count), i);
+    return c;
 }
 
 }  // namespace rayproof::gen

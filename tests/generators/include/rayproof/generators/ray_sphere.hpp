@@ -1,4 +1,4 @@
-// rayproof/generators/sphere.hpp — case generators for ray vs sphere (the closed ball).
+// rayproof/generators/ray_sphere.hpp — case generators for ray vs sphere (the closed ball).
 //
 // Constructed families use Pythagorean quadruples (a, b, c, n), a² + b² + c² = n²: the
 // point S = C + k·(a, b, c) lies exactly on the sphere of radius k·n about C, and a
@@ -57,55 +57,50 @@ template <class T> Case<T, Sphere<T>> sphere_log_uniform(Rng& rng) {
 // Exact tangents: the ray touches the sphere at exactly one point, at the exact parameter
 // s (one time in eight: a point sphere, radius +0 or -0, that the ray passes through).
 template <class T> Case<T, Sphere<T>> sphere_grazing(Rng& rng) {
-    for (;;) {
-        Case<T, Sphere<T>> c{{}, {}, "grazing"};
+    return constructed<T, Sphere<T>>("grazing", rng, [&](Case<T, Sphere<T>>& c) {
         const I3 center = random_i3(rng, -8, 8);
         const std::int64_t s = chance(rng, 1, 8) ? 0 : uniform_int(rng, 1, 8);
         const I3 tau = random_translation<T>(rng);
         if (chance(rng, 1, 8)) {
             const I3 d = random_nonzero_i3(rng, 8);
             if (!detail::sphere_from_integers<T>(center, 0, sub(center, mul(s, d)), to_vec_signed_zeros<T>(d, rng), tau, c))
-                continue;
+                return false;
             if (rng() & 1) c.shape.radius = -T(0);
         } else {
             const Quadruple q = pythagorean_quadruple(rng);
             const std::int64_t k = uniform_int(rng, 1, 4);
             const I3 d = cross(q.v, random_nonzero_i3(rng, 8));
-            if (is_zero(d)) continue;
+            if (is_zero(d)) return false;
             const I3 touch = add(center, mul(k, q.v));
             if (!detail::sphere_from_integers<T>(center, k * q.n, sub(touch, mul(s, d)), to_vec_signed_zeros<T>(d, rng),
                                                  tau, c))
-                continue;
+                return false;
         }
         special_t_range(c.ray, rng, T(s));
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // The tangent rays with one direction component moved by one ulp either way, or the
 // radius or one origin coordinate moved by one ulp: a hair inside or outside tangency.
 template <class T> Case<T, Sphere<T>> sphere_near_grazing(Rng& rng) {
-    Case<T, Sphere<T>> c = sphere_grazing<T>(rng);
-    c.generator = "near_grazing";
-    const int i = int(below(rng, 3));
-    const auto k = below(rng, 6);
-    if (k == 0)
-        c.shape.radius = c.shape.radius == 0 ? std::numeric_limits<T>::denorm_min() : nudge(c.shape.radius, random_sign(rng));
-    else if (k == 1)
-        c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
-    else
-        c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
-    if (c.ray.direction.isZero()) c.ray.direction[i] = std::numeric_limits<T>::denorm_min();
-    return c;
+    return near_grazing_from(sphere_grazing<T>(rng), rng, [&](Case<T, Sphere<T>>& c, int i) {
+        const auto k = below(rng, 6);
+        if (k == 0)
+            c.shape.radius =
+                c.shape.radius == 0 ? std::numeric_limits<T>::denorm_min() : nudge(c.shape.radius, random_sign(rng));
+        else if (k == 1)
+            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
+        else
+            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
+    });
 }
 
 // Axis-aligned directions (the other components +0 or -0) passing the centre at an
 // integer offset from a Pythagorean triple: exactly tangent, one unit inside or outside,
 // or through the centre.
 template <class T> Case<T, Sphere<T>> sphere_parallel(Rng& rng) {
-    for (;;) {
-        Case<T, Sphere<T>> c{{}, {}, "parallel"};
+    return constructed<T, Sphere<T>>("parallel", rng, [&](Case<T, Sphere<T>>& c) {
         const int a = int(below(rng, 3)), b = (a + 1) % 3, e = (a + 2) % 3;
         const std::int64_t m = uniform_int(rng, 1, 5), n = uniform_int(rng, 0, m - 1), k = uniform_int(rng, 1, 4);
         std::int64_t p = k * (m * m - n * n), q = k * 2 * m * n;
@@ -125,13 +120,12 @@ template <class T> Case<T, Sphere<T>> sphere_parallel(Rng& rng) {
         origin[a] += uniform_int(rng, -2 * h - 4, 2 * h + 4);
         d[a] = signed_int(rng, 1, 8);
         if (!detail::sphere_from_integers<T>(center, radius, origin, to_vec<T>(d), random_translation<T>(rng), c))
-            continue;
+            return false;
         c.ray.direction[b] = (rng() & 1) ? T(0) : -T(0);
         c.ray.direction[e] = (rng() & 1) ? T(0) : -T(0);
         random_t_range(c.ray, rng, 16);
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // Origins exactly on the sphere (directions inward, outward, exactly tangent or radial),
@@ -164,8 +158,7 @@ template <class T> Case<T, Sphere<T>> sphere_on_boundary(Rng& rng) {
         c.ray.t_max = chance(rng, 1, 2) ? kInf<T> : uniform<T>(rng, 0, 16);
         return c;
     }
-    for (;;) {
-        Case<T, Sphere<T>> c{{}, {}, "on_boundary"};
+    return constructed<T, Sphere<T>>("on_boundary", rng, [&](Case<T, Sphere<T>>& c) {
         const I3 center = random_i3(rng, -8, 8);
         const Quadruple q = pythagorean_quadruple(rng);
         const std::int64_t k = uniform_int(rng, 1, 4);
@@ -176,12 +169,12 @@ template <class T> Case<T, Sphere<T>> sphere_on_boundary(Rng& rng) {
             case 1: d = mul(signed_int(rng, 1, 3), q.v); break;  // radial
             default: d = random_nonzero_i3(rng, 8); break;
         }
-        if (is_zero(d)) continue;
+        if (is_zero(d)) return false;
         const bool at_origin = chance(rng, 1, 2);
         const std::int64_t s = at_origin ? 0 : uniform_int(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
         if (!detail::sphere_from_integers<T>(center, k * q.n, sub(surface, mul(s, d)), dv, random_translation<T>(rng), c))
-            continue;
+            return false;
         if (at_origin) {
             random_t_range(c.ray, rng, 8);
             if (chance(rng, 1, 2)) c.ray.t_min = 0;
@@ -189,9 +182,8 @@ template <class T> Case<T, Sphere<T>> sphere_on_boundary(Rng& rng) {
         } else {
             special_t_range(c.ray, rng, T(s));
         }
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // Extreme scenes: a tiny sphere (radius 1e-3, or far below the ulp of its centre) far
@@ -236,21 +228,19 @@ template <class T> Case<T, Sphere<T>> sphere_extreme(Rng& rng) {
 // Invalid inputs: every ray rule, a negative radius (down to -denorm_min; -0 is valid
 // and never produced here), NaN or inf in the centre or the radius.
 template <class T> Case<T, Sphere<T>> sphere_invalid(Rng& rng) {
-    Case<T, Sphere<T>> c = chance(rng, 1, 2) ? sphere_general<T>(rng) : sphere_grazing<T>(rng);
-    c.generator = "invalid";
-    const auto k = below(rng, unsigned(RayFault::count) + 2);
-    if (k < unsigned(RayFault::count)) {
-        break_ray(c.ray, RayFault(k), rng);
-    } else if (k == unsigned(RayFault::count)) {
-        c.shape.radius = chance(rng, 1, 2) ? -std::numeric_limits<T>::denorm_min() : -uniform<T>(rng, 0.5, 8);
-    } else {
-        const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
-        if (chance(rng, 1, 2))
-            c.shape.radius = bad;
-        else
-            c.shape.center[below(rng, 3)] = bad;
-    }
-    return c;
+    return invalid_from(sphere_general<T>, sphere_grazing<T>, rng, 2, FaultAxis::none,
+                        [&](Case<T, Sphere<T>>& c, unsigned k, int) {
+                            if (k == 0) {
+                                c.shape.radius = chance(rng, 1, 2) ? -std::numeric_limits<T>::denorm_min()
+                                                                   : -uniform<T>(rng, 0.5, 8);
+                            } else {
+                                const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
+                                if (chance(rng, 1, 2))
+                                    c.shape.radius = bad;
+                                else
+                                    c.shape.center[below(rng, 3)] = bad;
+                            }
+                        });
 }
 
 }  // namespace rayproof::gen

@@ -1,4 +1,4 @@
-// rayproof/generators/obb.hpp — case generators for ray vs oriented box.
+// rayproof/generators/ray_obb.hpp — case generators for ray vs oriented box.
 //
 // The constructed families use integer axes (permuted scaled identities, integer
 // rotations with orthogonal non-normalized columns, sheared integer matrices with
@@ -84,8 +84,7 @@ template <class T> Case<T, Obb<T>> obb_log_uniform(Rng& rng) {
 // Obb with integer, non-normalized, rotated (or sheared) axes in general position: an
 // integer centre and half extents, an integer origin aimed near the centre.
 template <class T> Case<T, Obb<T>> obb_rotated_integer(Rng& rng) {
-    for (;;) {
-        Case<T, Obb<T>> c{{}, {}, "rotated_integer"};
+    return constructed<T, Obb<T>>("rotated_integer", rng, [&](Case<T, Obb<T>>& c) {
         const IMat3 a = integer_axes(rng);
         I3 h;
         for (int i = 0; i < 3; ++i) {
@@ -95,14 +94,13 @@ template <class T> Case<T, Obb<T>> obb_rotated_integer(Rng& rng) {
         const I3 center = random_i3(rng, -8, 8);
         const I3 origin = random_i3(rng, -32, 32);
         const I3 d = sub(add(center, random_i3(rng, -4, 4)), origin);
-        if (is_zero(d)) continue;
+        if (is_zero(d)) return false;
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
         if (!detail::obb_from_integers<T>(a, center, h, origin, dv, random_translation<T>(rng), c))
-            continue;
+            return false;
         random_t_range(c.ray, rng, 4);
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 namespace detail {
@@ -127,8 +125,7 @@ inline I3 half_extents_through(const IMat3& a, const I3& v, unsigned on_mask, Rn
 // Exact grazing: the ray passes exactly through a corner or an edge point of an integer
 // Obb at the exact parameter s (touching it, or entering there).
 template <class T> Case<T, Obb<T>> obb_grazing(Rng& rng) {
-    for (;;) {
-        Case<T, Obb<T>> c{{}, {}, "grazing"};
+    return constructed<T, Obb<T>>("grazing", rng, [&](Case<T, Obb<T>>& c) {
         const IMat3 a = integer_axes(rng);
         const I3 center = random_i3(rng, -8, 8);
         const I3 v = random_nonzero_i3(rng, 6);
@@ -138,42 +135,37 @@ template <class T> Case<T, Obb<T>> obb_grazing(Rng& rng) {
         const std::int64_t s = chance(rng, 1, 8) ? 0 : uniform_int(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
         if (!detail::obb_from_integers<T>(a, center, h, sub(add(center, v), mul(s, d)), dv, random_translation<T>(rng), c))
-            continue;
+            return false;
         special_t_range(c.ray, rng, T(s));
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // The grazing rays with one direction component (or one origin coordinate, or one axis
 // entry: the box the floats describe moves) nudged by one ulp either way.
 template <class T> Case<T, Obb<T>> obb_near_grazing(Rng& rng) {
-    Case<T, Obb<T>> c = obb_grazing<T>(rng);
-    c.generator = "near_grazing";
-    const int i = int(below(rng, 3));
-    const auto k = below(rng, 6);
-    if (k == 0)
-        c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
-    else if (k == 1) {
-        T& x = c.shape.axes(i, int(below(rng, 3)));
-        x = nudge(x, random_sign(rng));
-    } else
-        c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
-    if (c.ray.direction.isZero()) c.ray.direction[i] = std::numeric_limits<T>::denorm_min();
-    return c;
+    return near_grazing_from(obb_grazing<T>(rng), rng, [&](Case<T, Obb<T>>& c, int i) {
+        const auto k = below(rng, 6);
+        if (k == 0)
+            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
+        else if (k == 1) {
+            T& x = c.shape.axes(i, int(below(rng, 3)));
+            x = nudge(x, random_sign(rng));
+        } else
+            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
+    });
 }
 
 // Directions exactly perpendicular to one box axis (d·a_i == 0 exactly: d = a_i × w, or
 // ±0 components for axis-aligned boxes), with the origin exactly on that slab's plane,
 // strictly inside it, or outside it.
 template <class T> Case<T, Obb<T>> obb_parallel(Rng& rng) {
-    for (;;) {
-        Case<T, Obb<T>> c{{}, {}, "parallel"};
+    return constructed<T, Obb<T>>("parallel", rng, [&](Case<T, Obb<T>>& c) {
         const IMat3 a = integer_axes(rng);
         const int i = int(below(rng, 3));
         const I3 d = chance(rng, 1, 2) ? cross(a.col[i], random_nonzero_i3(rng, 4))
                                        : cross(a.col[i], a.col[(i + 1 + below(rng, 2)) % 3]);
-        if (is_zero(d)) continue;
+        if (is_zero(d)) return false;
         const I3 center = random_i3(rng, -8, 8);
         const I3 v = random_nonzero_i3(rng, 6);
         I3 h = detail::half_extents_through(a, v, 0u, rng);
@@ -183,18 +175,16 @@ template <class T> Case<T, Obb<T>> obb_parallel(Rng& rng) {
         const std::int64_t s = uniform_int(rng, 0, 4);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
         if (!detail::obb_from_integers<T>(a, center, h, sub(add(center, v), mul(s, d)), dv, random_translation<T>(rng), c))
-            continue;
+            return false;
         random_t_range(c.ray, rng, 8);
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // Origins exactly on faces, edges and corners of an integer Obb, or t_min / t_max exactly
 // at the parameter of such a boundary point.
 template <class T> Case<T, Obb<T>> obb_on_boundary(Rng& rng) {
-    for (;;) {
-        Case<T, Obb<T>> c{{}, {}, "on_boundary"};
+    return constructed<T, Obb<T>>("on_boundary", rng, [&](Case<T, Obb<T>>& c) {
         const IMat3 a = integer_axes(rng);
         const I3 center = random_i3(rng, -8, 8);
         const I3 v = random_nonzero_i3(rng, 6);
@@ -205,16 +195,15 @@ template <class T> Case<T, Obb<T>> obb_on_boundary(Rng& rng) {
         const std::int64_t s = at_origin ? 0 : uniform_int(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
         if (!detail::obb_from_integers<T>(a, center, h, sub(add(center, v), mul(s, d)), dv, random_translation<T>(rng), c))
-            continue;
+            return false;
         if (at_origin)
             random_t_range(c.ray, rng, 8);
         else
             special_t_range(c.ray, rng, T(s));
         if (at_origin && chance(rng, 1, 2)) c.ray.t_min = 0;
         if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // Extreme scenes: a tiny box far away aimed at to within a few ulps, a huge box, nearly
@@ -264,39 +253,36 @@ template <class T> Case<T, Obb<T>> obb_extreme(Rng& rng) {
 // (a zero column, a repeated or scaled column, a column that is an exact integer
 // combination of the others, at any scale).
 template <class T> Case<T, Obb<T>> obb_invalid(Rng& rng) {
-    Case<T, Obb<T>> c = chance(rng, 1, 2) ? obb_general<T>(rng) : obb_grazing<T>(rng);
-    c.generator = "invalid";
-    const auto k = below(rng, unsigned(RayFault::count) + 3);
-    const int i = int(below(rng, 3));
-    if (k < unsigned(RayFault::count)) {
-        break_ray(c.ray, RayFault(k), rng);
-    } else if (k == unsigned(RayFault::count)) {
-        const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
-        const auto where = below(rng, 3);
-        if (where == 0) c.shape.center[i] = bad;
-        else if (where == 1) c.shape.axes(i, int(below(rng, 3))) = bad;
-        else c.shape.half_extent[i] = bad;
-    } else if (k == unsigned(RayFault::count) + 1) {
-        c.shape.half_extent[i] = chance(rng, 1, 2) ? -std::numeric_limits<T>::denorm_min() : -T(uniform_int(rng, 1, 8));
-    } else {
-        const IMat3 a = integer_axes(rng);
-        Mat3<T> m = to_mat<T>(a);
-        const int j = (i + 1 + int(below(rng, 2))) % 3, l = 3 - i - j;
-        switch (below(rng, 4)) {
-            case 0: m.col(i).setZero(); if (rng() & 1) m(0, i) = -T(0); break;
-            case 1: m.col(i) = m.col(j); break;
-            case 2: m.col(i) = T(signed_int(rng, 1, 4)) * m.col(j); break;
-            default: {
-                const T u = T(uniform_int(rng, -3, 3)), v = T(uniform_int(rng, -3, 3));
-                m.col(i) = u * m.col(j) + v * m.col(l);
-                break;
-            }
-        }
-        const int e = chance(rng, 1, 2) ? 0 : int(uniform_int(rng, -100, 100));
-        for (int q = 0; q < 9; ++q) m.data()[q] = std::ldexp(m.data()[q], e);
-        c.shape.axes = m;
-    }
-    return c;
+    return invalid_from(obb_general<T>, obb_grazing<T>, rng, 3, FaultAxis::drawn,
+                        [&](Case<T, Obb<T>>& c, unsigned k, int i) {
+                            if (k == 0) {
+                                const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
+                                const auto where = below(rng, 3);
+                                if (where == 0) c.shape.center[i] = bad;
+                                else if (where == 1) c.shape.axes(i, int(below(rng, 3))) = bad;
+                                else c.shape.half_extent[i] = bad;
+                            } else if (k == 1) {
+                                c.shape.half_extent[i] =
+                                    chance(rng, 1, 2) ? -std::numeric_limits<T>::denorm_min() : -T(uniform_int(rng, 1, 8));
+                            } else {
+                                const IMat3 a = integer_axes(rng);
+                                Mat3<T> m = to_mat<T>(a);
+                                const int j = (i + 1 + int(below(rng, 2))) % 3, l = 3 - i - j;
+                                switch (below(rng, 4)) {
+                                    case 0: m.col(i).setZero(); if (rng() & 1) m(0, i) = -T(0); break;
+                                    case 1: m.col(i) = m.col(j); break;
+                                    case 2: m.col(i) = T(signed_int(rng, 1, 4)) * m.col(j); break;
+                                    default: {
+                                        const T u = T(uniform_int(rng, -3, 3)), v = T(uniform_int(rng, -3, 3));
+                                        m.col(i) = u * m.col(j) + v * m.col(l);
+                                        break;
+                                    }
+                                }
+                                const int e = chance(rng, 1, 2) ? 0 : int(uniform_int(rng, -100, 100));
+                                for (int q = 0; q < 9; ++q) m.data()[q] = std::ldexp(m.data()[q], e);
+                                c.shape.axes = m;
+                            }
+                        });
 }
 
 }  // namespace rayproof::gen

@@ -1,4 +1,4 @@
-// rayproof/generators/plane.hpp — case generators for ray vs plane.
+// rayproof/generators/ray_plane.hpp — case generators for ray vs plane.
 //
 // Constructed families: an integer normal n and an integer point P give the exact offset
 // n·P; d = n × w is exactly parallel to the plane, so o = P - s·d lies exactly in it.
@@ -52,45 +52,40 @@ template <class T> Case<T, Plane<T>> plane_log_uniform(Rng& rng) {
 // Exact grazing for a plane: the ray lies exactly in it (n·d == 0 and n·o == offset
 // exactly), on ranges finite, half-infinite or the whole line.
 template <class T> Case<T, Plane<T>> plane_grazing(Rng& rng) {
-    for (;;) {
-        Case<T, Plane<T>> c{{}, {}, "grazing"};
+    return constructed<T, Plane<T>>("grazing", rng, [&](Case<T, Plane<T>>& c) {
         const I3 n = random_nonzero_i3(rng, 8);
         const I3 d = cross(n, random_nonzero_i3(rng, 8));
-        if (is_zero(d)) continue;
+        if (is_zero(d)) return false;
         const I3 p0 = random_i3(rng, -8, 8);
         const I3 p = add(p0, random_translation<T>(rng));
         const std::int64_t s = uniform_int(rng, -8, 8);
-        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), 0, c)) continue;
+        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), 0, c))
+            return false;
         if (chance(rng, 1, 2)) c.shape.normal = to_vec_signed_zeros<T>(n, rng);
         special_t_range(c.ray, rng, T(s));
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // The in-plane rays with one direction component moved by one ulp either way (a crossing
 // at a huge |t|, ahead or behind), or the offset or one origin coordinate moved by one
 // ulp (parallel, just off the plane).
 template <class T> Case<T, Plane<T>> plane_near_grazing(Rng& rng) {
-    Case<T, Plane<T>> c = plane_grazing<T>(rng);
-    c.generator = "near_grazing";
-    const int i = int(below(rng, 3));
-    const auto k = below(rng, 6);
-    if (k == 0)
-        c.shape.offset = nudge(c.shape.offset, random_sign(rng));
-    else if (k == 1)
-        c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
-    else
-        c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
-    if (c.ray.direction.isZero()) c.ray.direction[i] = std::numeric_limits<T>::denorm_min();
-    return c;
+    return near_grazing_from(plane_grazing<T>(rng), rng, [&](Case<T, Plane<T>>& c, int i) {
+        const auto k = below(rng, 6);
+        if (k == 0)
+            c.shape.offset = nudge(c.shape.offset, random_sign(rng));
+        else if (k == 1)
+            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
+        else
+            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
+    });
 }
 
 // Exactly parallel rays (n·d == 0) off the plane by an integer distance, and axis-aligned
 // normals with the matching direction component +0 or -0, origin on or off the plane.
 template <class T> Case<T, Plane<T>> plane_parallel(Rng& rng) {
-    for (;;) {
-        Case<T, Plane<T>> c{{}, {}, "parallel"};
+    return constructed<T, Plane<T>>("parallel", rng, [&](Case<T, Plane<T>>& c) {
         I3 n, d;
         if (chance(rng, 1, 2)) {
             n = random_nonzero_i3(rng, 8);
@@ -102,33 +97,32 @@ template <class T> Case<T, Plane<T>> plane_parallel(Rng& rng) {
             d = random_nonzero_i3(rng, 8);
             d[a] = 0;
         }
-        if (is_zero(d)) continue;
+        if (is_zero(d)) return false;
         const I3 p0 = random_i3(rng, -8, 8);
         const I3 p = add(p0, random_translation<T>(rng));
         const std::int64_t shift = chance(rng, 1, 3) ? 0 : signed_int(rng, 1, 16);
         const std::int64_t s = uniform_int(rng, -4, 4);
         if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), shift, c))
-            continue;
+            return false;
         c.shape.normal = to_vec_signed_zeros<T>(n, rng);
         random_t_range(c.ray, rng, 16);
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // Origins exactly on the plane (the crossing at t = 0, with t_min = 0 or t_min just
 // above), or crossings exactly at t_min or t_max (or a one-point range [s, s]).
 template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
-    for (;;) {
-        Case<T, Plane<T>> c{{}, {}, "on_boundary"};
+    return constructed<T, Plane<T>>("on_boundary", rng, [&](Case<T, Plane<T>>& c) {
         const I3 n = random_nonzero_i3(rng, 8);
         const I3 d = random_nonzero_i3(rng, 8);
-        if (dot(n, d) == 0) continue;
+        if (dot(n, d) == 0) return false;
         const I3 p0 = random_i3(rng, -8, 8);
         const I3 p = add(p0, random_translation<T>(rng));
         const bool at_origin = chance(rng, 1, 2);
         const std::int64_t s = at_origin ? 0 : uniform_int(rng, -8, 8);
-        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), 0, c)) continue;
+        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), 0, c))
+            return false;
         if (at_origin) {
             const auto k = below(rng, 3);
             c.ray.t_min = k == 0 ? T(0) : k == 1 ? std::numeric_limits<T>::denorm_min() : -T(0);
@@ -137,9 +131,8 @@ template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
         } else {
             special_t_range(c.ray, rng, T(s));
         }
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // Extreme scenes: nearly parallel rays (d rounded into the plane, so n·d is a few
@@ -200,21 +193,18 @@ template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
 // Invalid inputs: every ray rule, a zero normal (signed zeros mixed), NaN or inf in the
 // normal or the offset.
 template <class T> Case<T, Plane<T>> plane_invalid(Rng& rng) {
-    Case<T, Plane<T>> c = chance(rng, 1, 2) ? plane_general<T>(rng) : plane_grazing<T>(rng);
-    c.generator = "invalid";
-    const auto k = below(rng, unsigned(RayFault::count) + 2);
-    if (k < unsigned(RayFault::count)) {
-        break_ray(c.ray, RayFault(k), rng);
-    } else if (k == unsigned(RayFault::count)) {
-        for (int i = 0; i < 3; ++i) c.shape.normal[i] = (rng() & 1) ? T(0) : -T(0);
-    } else {
-        const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
-        if (chance(rng, 1, 2))
-            c.shape.offset = bad;
-        else
-            c.shape.normal[below(rng, 3)] = bad;
-    }
-    return c;
+    return invalid_from(plane_general<T>, plane_grazing<T>, rng, 2, FaultAxis::none,
+                        [&](Case<T, Plane<T>>& c, unsigned k, int) {
+                            if (k == 0) {
+                                for (int i = 0; i < 3; ++i) c.shape.normal[i] = (rng() & 1) ? T(0) : -T(0);
+                            } else {
+                                const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
+                                if (chance(rng, 1, 2))
+                                    c.shape.offset = bad;
+                                else
+                                    c.shape.normal[below(rng, 3)] = bad;
+                            }
+                        });
 }
 
 }  // namespace rayproof::gen

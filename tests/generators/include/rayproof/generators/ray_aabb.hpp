@@ -1,4 +1,4 @@
-// rayproof/generators/aabb.hpp — case generators for ray vs axis-aligned box.
+// rayproof/generators/ray_aabb.hpp — case generators for ray vs axis-aligned box.
 //
 // The constructed families (grazing, near_grazing, parallel, on_boundary) are built in
 // small integers, where every coordinate and every parameter t of the special point is
@@ -93,8 +93,7 @@ template <class T> Case<T, Aabb<T>> aabb_log_uniform(Rng& rng) {
 // the exact parameter s (touching it only, or entering there: the direction decides),
 // with t_min or t_max sometimes exactly at s.
 template <class T> Case<T, Aabb<T>> aabb_grazing(Rng& rng) {
-    for (;;) {
-        Case<T, Aabb<T>> c{{}, {}, "grazing"};
+    return constructed<T, Aabb<T>>("grazing", rng, [&](Case<T, Aabb<T>>& c) {
         const detail::IBox b = detail::integer_box(rng);
         const int free_axis = chance(rng, 1, 2) ? -1 : int(below(rng, 3));  // -1: a corner
         I3 p;
@@ -102,32 +101,27 @@ template <class T> Case<T, Aabb<T>> aabb_grazing(Rng& rng) {
         const I3 d = random_nonzero_i3(rng, 8);
         const std::int64_t s = chance(rng, 1, 8) ? 0 : uniform_int(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
-        if (!detail::aabb_from_integers<T>(b, sub(p, mul(s, d)), dv, random_translation<T>(rng), c)) continue;
+        if (!detail::aabb_from_integers<T>(b, sub(p, mul(s, d)), dv, random_translation<T>(rng), c)) return false;
         special_t_range(c.ray, rng, T(s));
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // The grazing rays with one direction component moved by one ulp either way (or, one
 // time in four, one origin coordinate): a hair off the corner or edge.
 template <class T> Case<T, Aabb<T>> aabb_near_grazing(Rng& rng) {
-    Case<T, Aabb<T>> c = aabb_grazing<T>(rng);
-    c.generator = "near_grazing";
-    const int i = int(below(rng, 3));
-    if (chance(rng, 1, 4))
-        c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
-    else
-        c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
-    if (c.ray.direction.isZero()) c.ray.direction[i] = std::numeric_limits<T>::denorm_min();
-    return c;
+    return near_grazing_from(aabb_grazing<T>(rng), rng, [&](Case<T, Aabb<T>>& c, int i) {
+        if (chance(rng, 1, 4))
+            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
+        else
+            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
+    });
 }
 
 // Direction components +0 and -0 on one or two axes, with the origin strictly inside,
 // outside, or exactly on a slab plane of each such axis; the other axes aim at the box.
 template <class T> Case<T, Aabb<T>> aabb_parallel(Rng& rng) {
-    for (;;) {
-        Case<T, Aabb<T>> c{{}, {}, "parallel"};
+    return constructed<T, Aabb<T>>("parallel", rng, [&](Case<T, Aabb<T>>& c) {
         const detail::IBox b = detail::integer_box(rng);
         const unsigned mask = 1u + unsigned(below(rng, 6));  // 1..6: one or two axes, never all three
         I3 o, d;
@@ -147,18 +141,16 @@ template <class T> Case<T, Aabb<T>> aabb_parallel(Rng& rng) {
         dv = to_vec<T>(d);
         for (int i = 0; i < 3; ++i)
             if (d[i] == 0 && (rng() & 1)) dv[i] = -T(0);
-        if (!detail::aabb_from_integers<T>(b, o, dv, random_translation<T>(rng), c)) continue;
+        if (!detail::aabb_from_integers<T>(b, o, dv, random_translation<T>(rng), c)) return false;
         random_t_range(c.ray, rng, 16);
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // Origins exactly on faces, edges and corners (t_min = 0 there), or rays whose t_min or
 // t_max is exactly the parameter of such a boundary point.
 template <class T> Case<T, Aabb<T>> aabb_on_boundary(Rng& rng) {
-    for (;;) {
-        Case<T, Aabb<T>> c{{}, {}, "on_boundary"};
+    return constructed<T, Aabb<T>>("on_boundary", rng, [&](Case<T, Aabb<T>>& c) {
         const detail::IBox b = detail::integer_box(rng);
         I3 p;
         bool boundary = false;
@@ -172,16 +164,15 @@ template <class T> Case<T, Aabb<T>> aabb_on_boundary(Rng& rng) {
         const bool at_origin = chance(rng, 1, 2);
         const std::int64_t s = at_origin ? 0 : uniform_int(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
-        if (!detail::aabb_from_integers<T>(b, sub(p, mul(s, d)), dv, random_translation<T>(rng), c)) continue;
+        if (!detail::aabb_from_integers<T>(b, sub(p, mul(s, d)), dv, random_translation<T>(rng), c)) return false;
         if (at_origin)
             random_t_range(c.ray, rng, 16);
         else
             special_t_range(c.ray, rng, T(s));
         if (at_origin && chance(rng, 1, 2)) c.ray.t_min = 0;
         if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
-        random_exact_scaling(c, rng);
-        return c;
-    }
+        return true;
+    });
 }
 
 // Extreme scenes: a tiny box far from the origin (aimed at to within a few ulps), a
@@ -239,20 +230,17 @@ template <class T> Case<T, Aabb<T>> aabb_extreme(Rng& rng) {
 // Invalid inputs, one contract rule each: NaN or inf anywhere, t_min > t_max, t_min =
 // +inf, t_max = -inf, a zero direction (signed zeros mixed), lo > hi on an axis.
 template <class T> Case<T, Aabb<T>> aabb_invalid(Rng& rng) {
-    Case<T, Aabb<T>> c = chance(rng, 1, 2) ? aabb_general<T>(rng) : aabb_grazing<T>(rng);
-    c.generator = "invalid";
-    const auto k = below(rng, unsigned(RayFault::count) + 3);
-    const int i = int(below(rng, 3));
-    if (k < unsigned(RayFault::count)) {
-        break_ray(c.ray, RayFault(k), rng);
-    } else if (k == unsigned(RayFault::count)) {  // NaN or inf in the box
-        T& x = chance(rng, 1, 2) ? c.shape.lo[i] : c.shape.hi[i];
-        x = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
-    } else {  // lo > hi, by one ulp or more
-        c.shape.lo[i] = chance(rng, 1, 2) ? next_up(c.shape.hi[i]) : c.shape.hi[i] + T(uniform_int(rng, 1, 8));
-        if (!(c.shape.lo[i] > c.shape.hi[i])) c.shape.lo[i] = next_up(c.shape.hi[i]);
-    }
-    return c;
+    return invalid_from(aabb_general<T>, aabb_grazing<T>, rng, 3, FaultAxis::drawn,
+                        [&](Case<T, Aabb<T>>& c, unsigned k, int i) {
+                            if (k == 0) {  // NaN or inf in the box
+                                T& x = chance(rng, 1, 2) ? c.shape.lo[i] : c.shape.hi[i];
+                                x = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
+                            } else {  // lo > hi, by one ulp or more
+                                c.shape.lo[i] = chance(rng, 1, 2) ? next_up(c.shape.hi[i])
+                                                                  : c.shape.hi[i] + T(uniform_int(rng, 1, 8));
+                                if (!(c.shape.lo[i] > c.shape.hi[i])) c.shape.lo[i] = next_up(c.shape.hi[i]);
+                            }
+                        });
 }
 
 }  // namespace rayproof::gen
