@@ -28,12 +28,7 @@
 namespace rayproof::bench::baseline {
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> make_hit(T t_enter, T t_exit, int face) {
-    Hit<T> h;
-    h.verdict = Verdict::hit;
-    h.t_enter = t_enter;
-    h.t_exit = t_exit;
-    h.face = face;
-    return h;
+    return Hit<T>{Verdict::hit, t_enter, t_exit, face};
 }
 
 // The textbook slab on scalar slabs: origin o_i, direction d_i, slab [lo_i, hi_i].

@@ -31,14 +31,7 @@ const Aabb<double> kBox{{0, 0, 0}, {1, 1, 1}};
 // The same ray against a box it misses.
 const Aabb<double> kFarBox{{0, 4, 4}, {1, 5, 5}};
 
-Hit<double> hit(double t_enter, double t_exit, int face) {
-    Hit<double> h;
-    h.verdict = Verdict::hit;
-    h.t_enter = t_enter;
-    h.t_exit = t_exit;
-    h.face = face;
-    return h;
-}
+Hit<double> hit(double t_enter, double t_exit, int face) { return {Verdict::hit, t_enter, t_exit, face}; }
 Hit<double> answer(Verdict v) {
     Hit<double> h;
     h.verdict = v;

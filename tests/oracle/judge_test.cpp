@@ -161,14 +161,7 @@ TEST(UlpDistance, CountsRepresentableSteps) {
     EXPECT_EQ(oracle::ulp_distance(-L::infinity(), L::infinity()), 2 * std::uint64_t(0x7ff0000000000000));
 }
 
-Hit<float> hit(float a, float b, int face) {
-    Hit<float> h;
-    h.verdict = Verdict::hit;
-    h.t_enter = a;
-    h.t_exit = b;
-    h.face = face;
-    return h;
-}
+Hit<float> hit(float a, float b, int face) { return {Verdict::hit, a, b, face}; }
 
 TEST(Judge, ClassifiesEveryOutcome) {
     const auto e = third<float>();  // [1/3, 2/3], face 0
