@@ -47,7 +47,7 @@ MUTATIONS=(
   "plane-verdict-no-bound|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/E = Q \+ Q;/E = Q * splat(0.0);/|certified Plane verdict filter deciding t against t_min and t_max without its error bound"
   "plane-verdict-overflow-holds|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/\(\(X >= E\) & finite\)/(X >= E)/|certified Plane verdict filter taking an overflowed limit·D~ (X~ = +inf for a finite limit) as proof that t lies inside the range"
   "sphere-tangent-miss|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/hit = sd >= 0;/hit = sd > 0;/|Sphere: an exactly tangent ray (zero discriminant) reported as a miss"
-  "exact-two-sum-sign|ray_obb_fuzz|kernel/include/rayproof/detail/exact.hpp|s/return \{s, \(a - av\) \+ \(b - bv\)\};/return {s, (a - av) - (b - bv)};/|exact arithmetic: two_sum's error term with a wrong sign"
+  "exact-two-sum-sign|ray_obb_fuzz|kernel/include/rayproof/detail/eft.hpp|s/return \{s, \(a - av\) \+ \(b - bv\)\};/return {s, (a - av) - (b - bv)};/|exact arithmetic: two_sum's error term with a wrong sign"
 )
 
 work="$FUZZ_BUILD/mutants"

@@ -71,24 +71,6 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
     return slab_fast(r.origin.data(), r.direction.data(), p.box.lo.data(), p.box.hi.data(), r.t_min, r.t_max);
 }
 
-// x·y - z with one rounding: the fused multiply-add where the target has one, else
-// Dekker's exact product (x·y = ph + pl, Veltkamp splitting; exact when nothing
-// overflows or underflows) followed by (ph - z) + pl, where ph - z is exact
-// (Sterbenz: ph and z are within a factor 2 of each other in the use below) and the
-// last subtraction rounds once.
-RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
-#if defined(__FMA__) || defined(__FP_FAST_FMA)
-    return std::fma(x, y, -z);
-#else
-    constexpr double split = 134217729.0;  // 2^27 + 1
-    const double cx = split * x, cy = split * y;
-    const double xh = cx - (cx - x), xl = x - xh, yh = cy - (cy - y), yl = y - yh;
-    const double ph = x * y;
-    const double pl = ((xh * yh - ph) + xh * yl + xl * yh) + xl * yl;
-    return (ph - z) + pl;
-#endif
-}
-
 // (p - o)/d faithfully rounded to T by one compensated correction of an approximation
 // t~ with |t~ - t| <= gamma(3)|t| (as the slab values are computed), or nothing when
 // the conditions below fail (then exact arithmetic rounds).

@@ -243,7 +243,7 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, conser
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_certified_common(const Ray<T>& r, const Obb<T>& b) {
     using namespace lanes;
-    constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022, u = exact_impl::u;
+    constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022, u = unit_roundoff<double>;
     D2 delta_d[3];  // (fl(o_j - c_j), d_j)
     for (int j = 0; j < 3; ++j)
         delta_d[j] = make(double(r.origin[j]) - double(b.center[j]), double(r.direction[j]));

@@ -132,7 +132,7 @@ public:
         double v, err;  // |q(t) - v| <= err; err = +inf when a guard fails
     };
     Value value_at(double t) const {
-        constexpr double g2 = exact_impl::gamma(2), g13 = exact_impl::gamma(13), u = exact_impl::u;
+        constexpr double g2 = gamma<double>(2), g13 = gamma<double>(13), u = unit_roundoff<double>;
         double W[3], om[3], A[3], small = -r2_.lo, abs_small = std::abs(r2_.lo), F = 0;
         for (int j = 0; j < 3; ++j) {
             const Pair p = two_prod(t, d_[j]);
@@ -316,62 +316,6 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, con
     h.t_enter = round_down_to<T>(lo);
     h.t_exit = round_up_to<T>(hi);
     return h;
-}
-
-// Floats as ordered integers (-0 and +0 share key 0), for searching over the floats.
-template <class T> std::int64_t float_key(T x) {
-    if constexpr (std::is_same_v<T, double>) {
-        const std::int64_t b = std::bit_cast<std::int64_t>(x);
-        return b < 0 ? -(b & INT64_MAX) : b;
-    } else {
-        const std::int32_t b = std::bit_cast<std::int32_t>(x);
-        return b < 0 ? -std::int64_t(b & INT32_MAX) : std::int64_t(b);
-    }
-}
-template <class T> T key_float(std::int64_t k) {
-    if constexpr (std::is_same_v<T, double>) {
-        return k < 0 ? -std::bit_cast<double>(-k) : std::bit_cast<double>(k);
-    } else {
-        return k < 0 ? -std::bit_cast<float>(std::int32_t(-k)) : std::bit_cast<float>(std::int32_t(k));
-    }
-}
-
-// The least key in (lo, hi] where a monotone predicate (false ... false true ... true)
-// turns true, given pred(lo) false and pred(hi) true, starting the search near `guess`.
-// Key differences are taken in unsigned arithmetic: hi - lo can exceed INT64_MAX.
-template <class P> std::int64_t first_true(std::int64_t lo, std::int64_t hi, std::int64_t guess, P&& pred) {
-    if (guess > lo && guess < hi) {  // gallop outwards from the guess, then bisect
-        if (pred(guess)) {
-            hi = guess;
-            for (std::int64_t step = 1; step < (std::int64_t(1) << 62) && std::uint64_t(step) < std::uint64_t(hi) - std::uint64_t(lo);
-                 step *= 2) {
-                if (!pred(hi - step)) {
-                    lo = hi - step;
-                    break;
-                }
-                hi -= step;
-            }
-        } else {
-            lo = guess;
-            for (std::int64_t step = 1; step < (std::int64_t(1) << 62) && std::uint64_t(step) < std::uint64_t(hi) - std::uint64_t(lo);
-                 step *= 2) {
-                if (pred(lo + step)) {
-                    hi = lo + step;
-                    break;
-                }
-                lo += step;
-            }
-        }
-    }
-    // hi - lo may exceed INT64_MAX (keys of opposite signs): differences in unsigned.
-    while (std::uint64_t(hi) - std::uint64_t(lo) > 1) {
-        const std::int64_t m = lo + std::int64_t((std::uint64_t(hi) - std::uint64_t(lo)) / 2);
-        if (pred(m))
-            hi = m;
-        else
-            lo = m;
-    }
-    return hi;
 }
 
 // The certified decisions on a quadratic Q (SphereQuadratic, or a test's wrapper that
@@ -594,7 +538,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified
     //     |V - q(y)| <= err_v + |δ|·e_σ + u|δ σ~| + u|V|/(1 - u),
     // and the sign of V is q(y)'s when |V| exceeds 2(err_v + |δ|(e_σ + u|σ~|)) + 2^-1000
     // (the doubling covers u|V| and the bound's own roundings, 2^-1000 underflow).
-    constexpr double g7 = gamma<double>(7), u = exact_impl::u;
+    constexpr double g7 = gamma<double>(7), u = unit_roundoff<double>;
     const double cab = std::abs(d[0] * dl[0]) + std::abs(d[1] * dl[1]) + std::abs(d[2] * dl[2]);
     auto refine = [&](double x, T& g) {
         const SphereResidual::Value qx = res.value_at(x);

@@ -92,7 +92,7 @@ RAYPROOF_ALWAYS_INLINE QuotientSums quotient_sums(lanes::D2 start, const lanes::
                                                   lanes::M2 inputs_in_range) {
     using namespace lanes;
     static_assert(P >= 1 && P <= 6);
-    constexpr double K = 2 * exact_impl::gamma(2 * P - 1);
+    constexpr double K = 2 * gamma<double>(2 * P - 1);
     D2 s = start, c = splat(0.0), S = splat(0.0);
     for (int k = 0; k < P; ++k) {
         const Product q = exact_product(a[k], b[k]);
@@ -113,7 +113,7 @@ struct PinnedQuotient {
 };
 RAYPROOF_ALWAYS_INLINE PinnedQuotient pin_quotient(const QuotientSums& s) {
     using namespace lanes;
-    constexpr double u = exact_impl::u;
+    constexpr double u = unit_roundoff<double>;
     const double nh = lane0(s.hi), nl = lane0(s.lo), dh = lane1(s.hi), dl = lane1(s.lo), bn = lane0(s.bound),
                  bd = lane1(s.bound);
     // R(tt) and the candidate.
