@@ -48,7 +48,10 @@
 //            rounding, and what it cannot decide goes to the same general path.
 #pragma once
 
+#include <rayproof/detail/certified.hpp>
+#include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/lanes.hpp>
+#include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/slab_certified.hpp>
 #include <rayproof/detail/slab_fast.hpp>
 #include <rayproof/detail/validate.hpp>
@@ -82,7 +85,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
 // 2^-960 and 1/d normal (no underflow in r~ or delta), |t~|, |d| <= 2^995.
 // faithful_slab_double is the correction in double, branch-free: {t', ok}; ok is false
 // where the conditions above fail. p == o gives exactly +0 (ok). faithful_to
-// (detail/slab_certified.hpp) rounds it to T.
+// (detail/certified.hpp) rounds it to T.
 struct FaithfulDouble {
     double t;
     bool ok;
@@ -131,10 +134,6 @@ public:
     }
     int den_sign(int i) const { return (d_[i] > 0) - (d_[i] < 0); }
     bool inside_parallel(int i) const { return b_->lo[i] <= o_[i] && o_[i] <= b_->hi[i]; }
-    // Both are exact comparisons of floats already (the names the other frames use for
-    // their exact stage).
-    int den_sign_exact(int i) const { return den_sign(i); }
-    bool inside_parallel_exact(int i) const { return inside_parallel(i); }
     Interval<double> enclose(int i, int side) const {
         if (ok_) return {t_[i][side] - e_[i][side], t_[i][side] + e_[i][side]};
         const double s = double(plane(i, side)) - double(o_[i]);
@@ -163,6 +162,8 @@ private:
     double t_[3][2], e_[3][2];
     bool ok_;
 };
+
+static_assert(SlabFrame<AabbFrame<float>, float> && SlabFrame<AabbFrame<double>, double>);
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conservative_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
@@ -306,7 +307,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
 // is certain when the latest entry's upper bound lies below the earliest exit's lower
 // bound, a miss when the latest entry's lower bound lies above the earliest exit's
 // upper bound; no winner is needed, and nothing is rounded. verdict_declined when the
-// general path must decide (see verdict_or, detail/slab_certified.hpp). Both are never
+// general path must decide (see verdict_or, detail/certified.hpp). Both are never
 // proven at once (g <= h in each lane, and rounding is monotone).
 template <class T> RAYPROOF_ALWAYS_INLINE int aabb_verdict_common(const Ray<T>& r, const Aabb<T>& b) {
     using namespace lanes;

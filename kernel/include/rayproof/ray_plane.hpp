@@ -39,7 +39,9 @@
 #include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/interval.hpp>
-#include <rayproof/detail/slab_certified.hpp>
+#include <rayproof/detail/certified.hpp>
+#include <rayproof/detail/lanes.hpp>
+#include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/validate.hpp>
 
 #include <cmath>
@@ -237,7 +239,8 @@ public:
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, 0, 0);
     }
-    // Interface of the slab frames, for exact_compare / exact_faithful (axis 0 only).
+    // A source of exact quotients (detail/certified.hpp), for exact_compare and
+    // exact_faithful (axis 0, side 0 only).
     template <class E> E num(int = 0, int = 0) const {
         E s(double(p_->offset));
         for (int j = 0; j < 3; ++j) s = s - E(double(p_->normal[j])) * E(double(r_->origin[j]));
@@ -266,6 +269,8 @@ private:
     Interval<double> num_, den_;
     int sden_;
 };
+
+static_assert(ExactQuotients<PlaneCrossing<float>> && ExactQuotients<PlaneCrossing<double>>);
 
 // A ray parallel to the plane (n·d == 0 exactly) lies in it, and hits on its whole
 // range, or misses; every mode decides this the same way (exactly).

@@ -53,7 +53,7 @@
 #include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/interval.hpp>
-#include <rayproof/detail/slab_certified.hpp>
+#include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/validate.hpp>
 
 #include <algorithm>
@@ -614,7 +614,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
 // down at t_max) means q > 0 on the whole range (a miss); the slope pointing into the
 // range at both ends puts the vertex t* = -b/a strictly inside it, where q(t*) = l² - r²
 // (l the line's distance from the centre) has the sign of l - r; and l > r is a miss
-// on any range. verdict_declined for the rest (see verdict_or, detail/slab_certified.hpp).
+// on any range. verdict_declined for the rest (see verdict_or, detail/certified.hpp).
 // The ends, t_min in lane 0 and t_max in lane 1, with the bounds of sphere_cheap_signs
 // (the same operations, two lanes at once): |fl(Σ w~_j² - r²) - q(t)| <= gamma(9)·(Σ M_j² +
 // r²) and |fl(Σ d_j w~_j) - (a t + b)| <= gamma(6)·Σ|d_j| M_j, each threshold twice the
