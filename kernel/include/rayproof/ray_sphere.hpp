@@ -50,10 +50,10 @@
 //            else from the full query.
 #pragma once
 
+#include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/interval.hpp>
-#include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/validate.hpp>
 
 #include <algorithm>

@@ -65,8 +65,10 @@
 // exact_product keeps its own fused and split forms apart.
 #pragma once
 
-#include <rayproof/detail/exact.hpp>
+#include <rayproof/detail/eft.hpp>
+#include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/lanes.hpp>
+#include <rayproof/detail/rounding.hpp>
 
 #include <cmath>
 #include <limits>
