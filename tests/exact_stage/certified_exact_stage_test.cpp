@@ -77,7 +77,11 @@ template <class T> struct SphereExactOnly : SphereQuadratic<T> {
     Interval<double> at(double) const { return kWholeLine; }
     Interval<double> slope(double) const { return kWholeLine; }
     Interval<double> discriminant() const { return kWholeLine; }
-    int compensated_sign_at(double) const { return 2; }
+    // A residual that never decides.
+    struct NoResidual {
+        int sign_at(double) const { return 2; }
+    };
+    NoResidual residual() const { return {}; }
     std::pair<Interval<double>, Interval<double>> roots(const Interval<double>&) const { return {kWholeLine, kWholeLine}; }
 };
 
