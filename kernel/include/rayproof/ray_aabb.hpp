@@ -51,6 +51,7 @@
 #include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/lanes.hpp>
+#include <rayproof/detail/prepared.hpp>
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/slab_certified.hpp>
 #include <rayproof/detail/slab_fast.hpp>
@@ -60,18 +61,11 @@
 
 namespace rayproof::detail {
 
-// A box with its validity decided once (the batch form prepares once per call). It
-// refers to the caller's box, which outlives the query: a copy would live on the stack
-// whenever the general path takes its address, and every query would pay for it.
-template <class T> struct PreparedAabb {
-    const Aabb<T>& box;
-    bool ok;
-};
-template <class T> RAYPROOF_ALWAYS_INLINE PreparedAabb<T> prepare(const Aabb<T>& b) { return {b, valid(b)}; }
+template <class T> using PreparedAabb = Prepared<Aabb<T>>;  // detail/prepared.hpp
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, fast_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return slab_fast(r.origin.data(), r.direction.data(), p.box.lo.data(), p.box.hi.data(), r.t_min, r.t_max);
+    if (rejects(r, p)) return invalid_hit<T>();
+    return slab_fast(r.origin.data(), r.direction.data(), p.shape.lo.data(), p.shape.hi.data(), r.t_min, r.t_max);
 }
 
 // (p - o)/d faithfully rounded to T by one compensated correction of an approximation
@@ -166,8 +160,8 @@ private:
 static_assert(SlabFrame<AabbFrame<float>, float> && SlabFrame<AabbFrame<double>, double>);
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conservative_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return slab_conservative(AabbFrame<T>(r, p.box), r.t_min, r.t_max);
+    if (rejects(r, p)) return invalid_hit<T>();
+    return slab_conservative(AabbFrame<T>(r, p.shape), r.t_min, r.t_max);
 }
 
 // The certified answer's common case in straight-line code, the entry problem in lane 0
@@ -414,12 +408,12 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_declined(c
 // The certified answer in full. The prepared flag is not consulted: the straight-line
 // path checks validity itself, and what it declines is validated again.
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
-    return common_or_general(aabb_certified_common(r, p.box), [&] { return aabb_certified_declined(r, p.box); });
+    return common_or_general(aabb_certified_common(r, p.shape), [&] { return aabb_certified_declined(r, p.shape); });
 }
 
 // The certified verdict alone: the same lanes and the same fallback as the full query.
 template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
-    return verdict_or(aabb_verdict_common(r, p.box), [&] { return aabb_certified_declined(r, p.box).verdict; });
+    return verdict_or(aabb_verdict_common(r, p.shape), [&] { return aabb_certified_declined(r, p.shape).verdict; });
 }
 
 }  // namespace rayproof::detail

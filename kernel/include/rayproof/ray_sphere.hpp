@@ -60,6 +60,7 @@
 #include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/interval.hpp>
+#include <rayproof/detail/prepared.hpp>
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/sphere_general.hpp>
 #include <rayproof/detail/sphere_quadratic.hpp>
@@ -74,18 +75,13 @@
 
 namespace rayproof::detail {
 
-// The caller's sphere (which outlives the query) and its validity, decided once.
-template <class T> struct PreparedSphere {
-    const Sphere<T>& sphere;
-    bool ok;
-};
-template <class T> RAYPROOF_ALWAYS_INLINE PreparedSphere<T> prepare(const Sphere<T>& s) { return {s, valid(s)}; }
+template <class T> using PreparedSphere = Prepared<Sphere<T>>;  // detail/prepared.hpp
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, fast_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+    if (rejects(r, p)) return invalid_hit<T>();
     const Vec3<T>& d = r.direction;
-    const Vec3<T> delta = r.origin - p.sphere.center;
-    const T rad = p.sphere.radius;
+    const Vec3<T> delta = r.origin - p.shape.center;
+    const T rad = p.shape.radius;
     const T a = d.squaredNorm();
     const T b = d.dot(delta);
     const T l = (delta - (b / a) * d).norm();
@@ -119,13 +115,13 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> sphere_certified_answer(const R
 }
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, conservative_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
-    const SphereQuadratic<T> q(r, p.sphere);
+    if (rejects(r, p)) return invalid_hit<T>();
+    const SphereQuadratic<T> q(r, p.shape);
     if (!(q.a().lo > 0)) {
         // a = |d|² underflowed (|d| below about 2^-537): the interval formulas divide by
         // an interval holding 0. Rare enough to take the certified answer and widen each
         // faithfully rounded end by one step, which encloses the exact interval.
-        Hit<T> h = sphere_certified_answer(r, p.sphere);
+        Hit<T> h = sphere_certified_answer(r, p.shape);
         if (h.verdict == Verdict::hit) {
             if (h.t_enter != r.t_min) h.t_enter = std::max(step_down(h.t_enter), r.t_min);
             if (h.t_exit != r.t_max) h.t_exit = std::min(step_up(h.t_exit), r.t_max);
@@ -146,8 +142,8 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, con
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return sphere_certified_answer(r, p.sphere);
+    if (rejects(r, p)) return invalid_hit<T>();
+    return sphere_certified_answer(r, p.shape);
 }
 
 // What the verdict filter declines: the full query's verdict, out of line.
@@ -158,7 +154,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Verdict sphere_verdict_declined(
 // The certified verdict: the filter's (which proves the input valid), else the full
 // query's, which validates. The prepared flag is not consulted on the filter's path.
 template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
-    return verdict_or(sphere_verdict_common(r, p.sphere), [&] { return sphere_verdict_declined(r, p.sphere); });
+    return verdict_or(sphere_verdict_common(r, p.shape), [&] { return sphere_verdict_declined(r, p.shape); });
 }
 
 }  // namespace rayproof::detail
