@@ -8,18 +8,23 @@
 # time survived: the script prints one line per mutation (found or not, the seconds
 # and executions it took, what was reported) and exits 1 if any survived.
 #
-#   fuzz/mutants.sh [--seconds S] [--empty] [--only NAME]
+#   fuzz/mutants.sh [--seconds S] [--empty] [--only NAME] [--check]
 #     --seconds S   time limit per mutant (default 60)
 #     --empty       start from an empty corpus instead of the committed fuzz/corpus/<target>/
 #     --only NAME   run one mutation (see the table below)
+#     --check       build and fuzz nothing: check that every mutation's pattern matches
+#                   exactly one line of its file in the checkout and changes it, and that
+#                   its target is a fuzz target; exit 1 when one does not (a CTest test
+#                   runs this, so a kernel edit that moves a mutated line fails it)
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
-seconds=60 empty=0 only=""
+seconds=60 empty=0 only="" check=0
 while [ $# -gt 0 ]; do
   case "$1" in
+    --check) check=1; shift ;;
     --seconds) seconds="$2"; shift 2 ;;
     --empty) empty=1; shift ;;
     --only) only="$2"; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "unknown argument: $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -49,6 +54,31 @@ MUTATIONS=(
   "sphere-tangent-miss|ray_sphere_fuzz|kernel/include/rayproof/detail/sphere_general.hpp|s/hit = sd >= 0;/hit = sd > 0;/|Sphere: an exactly tangent ray (zero discriminant) reported as a miss"
   "exact-two-sum-sign|ray_obb_fuzz|kernel/include/rayproof/detail/eft.hpp|s/return \{s, \(a - av\) \+ \(b - bv\)\};/return {s, (a - av) - (b - bv)};/|exact arithmetic: two_sum's error term with a wrong sign"
 )
+
+# --check: every pattern against the checkout, nothing built.
+if [ $check -eq 1 ]; then
+  bad=0
+  for m in "${MUTATIONS[@]}"; do
+    IFS='|' read -r name target file subst what <<<"$m"
+    [ -z "$only" ] || [ "$only" = "$name" ] || continue
+    if [ ! -f "$ROOT/$file" ]; then
+      echo "mutation $name: no file $file" >&2; bad=1; continue
+    fi
+    case " ${FUZZ_TARGETS_ALL[*]} " in
+      *" $target "*) ;;
+      *) echo "mutation $name: $target is not a fuzz target" >&2; bad=1 ;;
+    esac
+    n=$(perl -ne "\$n++ if $subst; END { print \$n+0 }" "$ROOT/$file")
+    if [ "$n" != 1 ]; then
+      echo "mutation $name: the pattern matches $n lines of $file (expected 1)" >&2; bad=1; continue
+    fi
+    if perl -pe "$subst" "$ROOT/$file" | cmp -s - "$ROOT/$file"; then
+      echo "mutation $name: the substitution leaves $file unchanged" >&2; bad=1; continue
+    fi
+    echo "mutation $name: applies once to $file"
+  done
+  exit $bad
+fi
 
 work="$FUZZ_BUILD/mutants"
 src="$work/src"
