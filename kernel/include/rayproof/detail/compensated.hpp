@@ -103,9 +103,9 @@ RAYPROOF_ALWAYS_INLINE QuotientSums quotient_sums(lanes::D2 start, const lanes::
         c = (c + x.lo) + q.lo;
         S = (S + abs(x.lo)) + abs(q.lo);
     }
-    const D2 hi = s + c, lo = c - (hi - s);
+    const SumOf<D2> r = fast_two_sum(s, c);
     const M2 renormal = (abs(c) <= abs(s)) | (s == splat(0.0));
-    return {hi, lo, S * splat(K), bits(inputs_in_range & renormal) == 3};
+    return {r.hi, r.lo, S * splat(K), bits(inputs_in_range & renormal) == 3};
 }
 
 // t = N/D pinned: t lies strictly between the two neighbours of c when pinned.

@@ -39,10 +39,11 @@ template <class V> inline SumOf<V> two_sum(V a, V b) {
 
 // Dekker's FastTwoSum: hi = fl(a + b), lo = (a + b) − hi, 3 flops. Exact when
 // a == 0 or exponent(a) >= exponent(b) (in particular when |a| >= |b|) and fl(a + b)
-// does not overflow (then s − a is exact, no intermediate can overflow).
-inline Pair fast_two_sum(double a, double b) {
-    const double s = a + b;
-    const double bv = s - a;
+// does not overflow (then s − a is exact, no intermediate can overflow). V as for
+// two_sum.
+template <class V> inline SumOf<V> fast_two_sum(V a, V b) {
+    const V s = a + b;
+    const V bv = s - a;
     return {s, b - bv};
 }
 

@@ -624,7 +624,6 @@ template <class E, class T> std::optional<int> side(const E& num, const E& den, 
 // The faithful quotient; nullopt if an expansion overflowed on the way.
 template <class T, class E> std::optional<T> quotient(const E& num, const E& den) {
     constexpr T kMax = std::numeric_limits<T>::max();
-    constexpr T kInf = std::numeric_limits<T>::infinity();
     constexpr long kMaxExp = std::numeric_limits<T>::max_exponent;  // max < 2^kMaxExp
     constexpr long kMinExp = std::numeric_limits<T>::min_exponent - std::numeric_limits<T>::digits;  // denorm_min = 2^kMinExp
     const int sden = den.sign();
@@ -649,7 +648,7 @@ template <class T, class E> std::optional<T> quotient(const E& num, const E& den
     if (!s0) return std::nullopt;
     const int s = *s0;  // sign(quotient − q), constant while stepping
     while (s != 0) {
-        const T next = std::nextafter(q, s > 0 ? kInf : -kInf);
+        const T next = s > 0 ? step_up(q) : step_down(q);
         if (std::isinf(next)) break;  // quotient beyond ±max: q = ±max encloses it
         const std::optional<int> s1 = side(num, den, sden, next);
         if (!s1) return std::nullopt;
