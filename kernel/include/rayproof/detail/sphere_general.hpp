@@ -1,7 +1,7 @@
-// rayproof/detail/sphere_general.hpp — the general path of the certified Ray/Sphere query: every
-// decision on exact signs, each tried first on the quadratic's intervals (and, for
-// double, on its double-word residual), and t_enter and t_exit found by a search over
-// the ordered floats (detail/rounding.hpp). It answers every valid input.
+// rayproof/detail/sphere_general.hpp — the general path of the certified Ray/Sphere
+// query: every decision on exact signs, each tried first on the quadratic's intervals
+// (and, for double, on its double-word residual), and t_enter and t_exit found by a
+// search over the ordered floats (detail/rounding.hpp). It answers every valid input.
 #pragma once
 
 #include <rayproof/detail/certified.hpp>

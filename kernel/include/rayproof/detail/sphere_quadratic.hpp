@@ -1,7 +1,8 @@
-// rayproof/detail/sphere_quadratic.hpp — the quadratic q(t) = |Δ + t d|² - r² of a ray and a sphere
-// (SphereQuadratic): interval enclosures of its coefficients, discriminant, roots and
-// values, its double-word residual, and its exact signs. The conservative mode answers
-// from its enclosures, the certified general path (sphere_general.hpp) decides on them.
+// rayproof/detail/sphere_quadratic.hpp — the quadratic q(t) = |Δ + t d|² - r² of a ray
+// and a sphere (SphereQuadratic): interval enclosures of its coefficients, discriminant,
+// roots and values, its double-word residual, and its exact signs. The conservative mode
+// answers from its enclosures, the certified general path (sphere_general.hpp) decides
+// on them.
 #pragma once
 
 #include <rayproof/detail/exact.hpp>

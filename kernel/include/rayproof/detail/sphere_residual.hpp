@@ -1,6 +1,7 @@
-// rayproof/detail/sphere_residual.hpp — the sphere's double-word residual: q(t) = |(o - c) + t d|² - r² at a double t
-// with a proven error bound (SphereResidual), for the certified Ray/Sphere query
-// (ray_sphere.hpp): the general path's second filter and the straight-line path's proofs.
+// rayproof/detail/sphere_residual.hpp — the sphere's double-word residual:
+// q(t) = |(o - c) + t d|² - r² at a double t with a proven error bound (SphereResidual),
+// for the certified Ray/Sphere query (ray_sphere.hpp): the general path's second filter
+// and the straight-line path's proofs.
 #pragma once
 
 #include <rayproof/detail/eft.hpp>

@@ -1,7 +1,7 @@
-// rayproof/detail/sphere_straight_line.hpp — the straight-line path of the certified Ray/Sphere query
-// (sphere_certified_common): the roots estimated in double as the fast mode does, each
-// refined and proven, or a miss proven; anything it cannot prove is left to the general
-// path (sphere_general.hpp), whose answers it gives bit for bit.
+// rayproof/detail/sphere_straight_line.hpp — the straight-line path of the certified
+// Ray/Sphere query (sphere_certified_common): the roots estimated in double as the fast
+// mode does, each refined and proven, or a miss proven; anything it cannot prove is left
+// to the general path (sphere_general.hpp), whose answers it gives bit for bit.
 #pragma once
 
 #include <rayproof/detail/eft.hpp>
