@@ -64,7 +64,7 @@ namespace rayproof::detail {
 template <class T> using PreparedAabb = Prepared<Aabb<T>>;  // detail/prepared.hpp
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, fast_t) {
-    if (rejects(r, p)) return invalid_hit<T>();
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
     return slab_fast(r.origin.data(), r.direction.data(), p.shape.lo.data(), p.shape.hi.data(), r.t_min, r.t_max);
 }
 
@@ -160,7 +160,7 @@ private:
 static_assert(SlabFrame<AabbFrame<float>, float> && SlabFrame<AabbFrame<double>, double>);
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conservative_t) {
-    if (rejects(r, p)) return invalid_hit<T>();
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
     return slab_conservative(AabbFrame<T>(r, p.shape), r.t_min, r.t_max);
 }
 

@@ -60,7 +60,7 @@ template <class T> struct PreparedObb {
 template <class T> PreparedObb<T> prepare(const Obb<T>& b) { return {b, -b.half_extent, b.half_extent, valid(b)}; }
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, fast_t) {
-    if (rejects(r, p)) return invalid_hit<T>();
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
     const Vec3<T> o = p.box.axes.transpose() * (r.origin - p.box.center);
     const Vec3<T> d = p.box.axes.transpose() * r.direction;
     return slab_fast(o.data(), d.data(), p.lo.data(), p.hi.data(), r.t_min, r.t_max);
@@ -215,7 +215,7 @@ private:
 static_assert(SlabFrame<ObbFrame<float>, float> && SlabFrame<ObbFrame<double>, double>);
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, conservative_t) {
-    if (rejects(r, p)) return invalid_hit<T>();
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
     return slab_conservative(ObbFrame<T>(r, p.box), r.t_min, r.t_max);
 }
 
@@ -322,7 +322,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> obb_certified_general(con
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, certified_t) {
-    if (rejects(r, p)) return invalid_hit<T>();
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
     return common_or_general(obb_certified_common(r, p.box), [&] { return obb_certified_general(r, p.box); });
 }
 

@@ -53,7 +53,7 @@ namespace rayproof::detail {
 template <class T> using PreparedPlane = Prepared<Plane<T>>;  // detail/prepared.hpp
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, fast_t) {
-    if (rejects(r, p)) return invalid_hit<T>();
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
     const T den = p.shape.normal.dot(r.direction);
     const T num = p.shape.offset - p.shape.normal.dot(r.origin);
     Hit<T> h;
@@ -281,7 +281,7 @@ template <class T, class X> Hit<T> parallel_answer(const Ray<T>& r, const X& x) 
 }
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, conservative_t) {
-    if (rejects(r, p)) return invalid_hit<T>();
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
     const PlaneCrossing<T> x(r, p.shape);
     Hit<T> h;
     if (x.den_sign() == 0) return parallel_answer(r, x);

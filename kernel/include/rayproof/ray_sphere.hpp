@@ -78,7 +78,7 @@ namespace rayproof::detail {
 template <class T> using PreparedSphere = Prepared<Sphere<T>>;  // detail/prepared.hpp
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, fast_t) {
-    if (rejects(r, p)) return invalid_hit<T>();
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
     const Vec3<T>& d = r.direction;
     const Vec3<T> delta = r.origin - p.shape.center;
     const T rad = p.shape.radius;
@@ -115,7 +115,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> sphere_certified_answer(const R
 }
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, conservative_t) {
-    if (rejects(r, p)) return invalid_hit<T>();
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
     const SphereQuadratic<T> q(r, p.shape);
     if (!(q.a().lo > 0)) {
         // a = |d|² underflowed (|d| below about 2^-537): the interval formulas divide by
@@ -142,7 +142,7 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, con
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
-    if (rejects(r, p)) return invalid_hit<T>();
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
     return sphere_certified_answer(r, p.shape);
 }
 
