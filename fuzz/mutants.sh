@@ -8,18 +8,23 @@
 # time survived: the script prints one line per mutation (found or not, the seconds
 # and executions it took, what was reported) and exits 1 if any survived.
 #
-#   fuzz/mutants.sh [--seconds S] [--empty] [--only NAME]
+#   fuzz/mutants.sh [--seconds S] [--empty] [--only NAME] [--check]
 #     --seconds S   time limit per mutant (default 60)
 #     --empty       start from an empty corpus instead of the committed fuzz/corpus/<target>/
 #     --only NAME   run one mutation (see the table below)
+#     --check       build and fuzz nothing: check that every mutation's pattern matches
+#                   exactly one line of its file in the checkout and changes it, and that
+#                   its target is a fuzz target; exit 1 when one does not (a CTest test
+#                   runs this, so a kernel edit that moves a mutated line fails it)
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
-seconds=60 empty=0 only=""
+seconds=60 empty=0 only="" check=0
 while [ $# -gt 0 ]; do
   case "$1" in
+    --check) check=1; shift ;;
     --seconds) seconds="$2"; shift 2 ;;
     --empty) empty=1; shift ;;
     --only) only="$2"; shift 2 ;;
-    -h|--help) sed -n '2,15p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "unknown argument: $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -39,16 +44,41 @@ MUTATIONS=(
   "obb-open-parallel-slab|ray_obb_fuzz|kernel/include/rayproof/ray_obb.hpp|s/return above\.sign\(\) >= 0 && below\.sign\(\) >= 0;/return above.sign() > 0 && below.sign() > 0;/|Obb: a ray parallel to a slab and exactly on its face plane taken as outside (exact stage)"
   "obb-common-no-bound|ray_obb_fuzz|kernel/include/rayproof/ray_obb.hpp|s/const D2 bound = \(e \+ e\) \+ splat\(eta\);/const D2 bound = (e + e) * splat(0.0);/|certified Obb: the straight-line path's slab values without their error bounds"
   "plane-in-plane-miss|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/if \(x\.in_plane\(\)\) \{/if (false \&\& x.in_plane()) {/|Plane: a ray lying in the plane reported as a miss"
-  "sphere-distance-no-bound|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/if \(n - rad > L.threshold\) return h;/if (n - rad > 0) return h;/|certified Sphere straight-line path: a miss taken from the estimated distance of the line, without its error bound"
-  "sphere-root-no-proof|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/const double thr = 2 \* \(qx\.err \+/const double thr = 0 * (qx.err +/|certified Sphere straight-line path: the signs of q next to a root taken from floating point, without their bound"
+  "sphere-distance-no-bound|ray_sphere_fuzz|kernel/include/rayproof/detail/sphere_straight_line.hpp|s/if \(n - rad > L.threshold\) return h;/if (n - rad > 0) return h;/|certified Sphere straight-line path: a miss taken from the estimated distance of the line, without its error bound"
+  "sphere-root-no-proof|ray_sphere_fuzz|kernel/include/rayproof/detail/sphere_straight_line.hpp|s/const double thr = 2 \* \(qx\.err \+/const double thr = 0 * (qx.err +/|certified Sphere straight-line path: the signs of q next to a root taken from floating point, without their bound"
   "plane-pin-no-bound|ray_plane_fuzz|kernel/include/rayproof/detail/compensated.hpp|s/\(2 \* e \+ 0x1p-1020\)/(0 * e + 0x1p-1020)/|certified Plane: the straight-line path's proof that t lies next to its candidate without the residual's error bound"
-  "sphere-verdict-no-margin|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/line_in = -D > E;/line_in = -D > 0;/|certified Sphere verdict filter taking the line inside the ball without the certificate's margin"
-  "sphere-verdict-ends-no-bound|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/const M2 inside = v < -tq,/const M2 inside = v < splat(0.0) * tq,/|certified Sphere verdict filter taking an end of the range as inside the ball from the sign of q there, without its bound"
+  "sphere-verdict-no-margin|ray_sphere_fuzz|kernel/include/rayproof/detail/sphere_verdict.hpp|s/line_in = -D > E;/line_in = -D > 0;/|certified Sphere verdict filter taking the line inside the ball without the certificate's margin"
+  "sphere-verdict-ends-no-bound|ray_sphere_fuzz|kernel/include/rayproof/detail/sphere_verdict.hpp|s/const M2 inside = v < -tq,/const M2 inside = v < splat(0.0) * tq,/|certified Sphere verdict filter taking an end of the range as inside the ball from the sign of q there, without its bound"
   "plane-verdict-no-bound|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/E = Q \+ Q;/E = Q * splat(0.0);/|certified Plane verdict filter deciding t against t_min and t_max without its error bound"
   "plane-verdict-overflow-holds|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/\(\(X >= E\) & finite\)/(X >= E)/|certified Plane verdict filter taking an overflowed limit·D~ (X~ = +inf for a finite limit) as proof that t lies inside the range"
-  "sphere-tangent-miss|ray_sphere_fuzz|kernel/include/rayproof/ray_sphere.hpp|s/hit = sd >= 0;/hit = sd > 0;/|Sphere: an exactly tangent ray (zero discriminant) reported as a miss"
-  "exact-two-sum-sign|ray_obb_fuzz|kernel/include/rayproof/detail/exact.hpp|s/return \{s, \(a - av\) \+ \(b - bv\)\};/return {s, (a - av) - (b - bv)};/|exact arithmetic: two_sum's error term with a wrong sign"
+  "sphere-tangent-miss|ray_sphere_fuzz|kernel/include/rayproof/detail/sphere_general.hpp|s/hit = sd >= 0;/hit = sd > 0;/|Sphere: an exactly tangent ray (zero discriminant) reported as a miss"
+  "exact-two-sum-sign|ray_obb_fuzz|kernel/include/rayproof/detail/eft.hpp|s/return \{s, \(a - av\) \+ \(b - bv\)\};/return {s, (a - av) - (b - bv)};/|exact arithmetic: two_sum's error term with a wrong sign"
 )
+
+# --check: every pattern against the checkout, nothing built.
+if [ $check -eq 1 ]; then
+  bad=0
+  for m in "${MUTATIONS[@]}"; do
+    IFS='|' read -r name target file subst what <<<"$m"
+    [ -z "$only" ] || [ "$only" = "$name" ] || continue
+    if [ ! -f "$ROOT/$file" ]; then
+      echo "mutation $name: no file $file" >&2; bad=1; continue
+    fi
+    case " ${FUZZ_TARGETS_ALL[*]} " in
+      *" $target "*) ;;
+      *) echo "mutation $name: $target is not a fuzz target" >&2; bad=1 ;;
+    esac
+    n=$(perl -ne "\$n++ if $subst; END { print \$n+0 }" "$ROOT/$file")
+    if [ "$n" != 1 ]; then
+      echo "mutation $name: the pattern matches $n lines of $file (expected 1)" >&2; bad=1; continue
+    fi
+    if perl -pe "$subst" "$ROOT/$file" | cmp -s - "$ROOT/$file"; then
+      echo "mutation $name: the substitution leaves $file unchanged" >&2; bad=1; continue
+    fi
+    echo "mutation $name: applies once to $file"
+  done
+  exit $bad
+fi
 
 work="$FUZZ_BUILD/mutants"
 src="$work/src"

@@ -36,17 +36,33 @@ namespace rayproof::detail {
 inline constexpr Interval<double> kWholeLine{-std::numeric_limits<double>::infinity(),
                                              std::numeric_limits<double>::infinity()};
 
-// A slab frame with the filter off.
+// A slab frame with the filter off: the sign of den and the parallel case decided in
+// exact arithmetic from the frame's own num and den (the origin lies in the closed slab
+// i when num(i, 0) = lo - o' <= 0 <= num(i, 1) = hi - o').
 template <class T, class F> struct SlabExactOnly {
     const F& f;
-    int den_sign(int i) const { return f.den_sign_exact(i); }
-    bool inside_parallel(int i) const { return f.inside_parallel_exact(i); }
+    int den_sign(int i) const {
+        return *with_exact(f.safe(), [&](auto tag) -> std::optional<int> {
+            const auto d = f.template den<typename decltype(tag)::type>(i);
+            if (d.overflowed()) return std::nullopt;
+            return d.sign();
+        });
+    }
+    bool inside_parallel(int i) const {
+        return *with_exact(f.safe(), [&](auto tag) -> std::optional<bool> {
+            using E = typename decltype(tag)::type;
+            const E below = f.template num<E>(i, 0), above = f.template num<E>(i, 1);
+            if (any_overflowed(below, above)) return std::nullopt;
+            return below.sign() <= 0 && above.sign() >= 0;
+        });
+    }
     Interval<double> enclose(int, int) const { return kWholeLine; }
     template <class E> E num(int i, int side) const { return f.template num<E>(i, side); }
     template <class E> E den(int i) const { return f.template den<E>(i); }
     bool safe() const { return f.safe(); }
     T faithful(int i, int side, const Interval<double>&, bool&) const { return exact_faithful<T>(*this, i, side); }
 };
+static_assert(SlabFrame<SlabExactOnly<double, AabbFrame<double>>, double>);
 
 template <class T> struct PlaneExactOnly : PlaneCrossing<T> {
     using PlaneCrossing<T>::PlaneCrossing;
@@ -61,7 +77,11 @@ template <class T> struct SphereExactOnly : SphereQuadratic<T> {
     Interval<double> at(double) const { return kWholeLine; }
     Interval<double> slope(double) const { return kWholeLine; }
     Interval<double> discriminant() const { return kWholeLine; }
-    int compensated_sign_at(double) const { return 2; }
+    // A residual that never decides.
+    struct NoResidual {
+        int sign_at(double) const { return 2; }
+    };
+    NoResidual residual() const { return {}; }
     std::pair<Interval<double>, Interval<double>> roots(const Interval<double>&) const { return {kWholeLine, kWholeLine}; }
 };
 

@@ -6,7 +6,7 @@
 //   - pin_quotient: whenever it pins, the candidate is a faithful rounding of N/D,
 //     exactly N/D when that is a double; on generic input it does pin (the stage is not
 //     dead), while exact midpoints never produce a wrong double;
-//   - SphereQuadratic::compensated_sign_at: whenever it decides, it is the exact sign of
+//   - SphereQuadratic::residual().sign_at: whenever it decides, it is the exact sign of
 //     q(g) (sign_at), at the floats around both roots, where q changes sign;
 //   - lanes::exact_product: hi + lo is the exact product in both lanes, over the range
 //     its callers guard (zeros, short and full mantissas, products near 2^-900);
@@ -226,7 +226,7 @@ TEST(CompensatedSphere, SignAtRootsIsExactWhenDecided) {
             for (double g : {step_down(root), root, step_up(root)}) {
                 if (!std::isfinite(g)) continue;
                 ++tried;
-                const int c = q.compensated_sign_at(g);
+                const int c = q.residual().sign_at(g);
                 if (c == 2) continue;
                 ++decided;
                 ASSERT_EQ(c, q.sign_at(g)) << "ray " << r << " sphere " << sp << " g = " << hex(g);

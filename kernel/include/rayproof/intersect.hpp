@@ -1,19 +1,25 @@
 // rayproof/intersect.hpp — the public entry points: one ray or a batch of rays against
 // one shape, in one of the three modes. The scalar and the batch forms share one code
-// path (detail::query on a prepared shape), so they cannot disagree.
+// path (detail::query on a prepared shape, declared by the shape headers included
+// below), so they cannot disagree.
 #pragma once
 
 #include <rayproof/detail/float_util.hpp>
+#include <rayproof/ray_aabb.hpp>
+#include <rayproof/ray_obb.hpp>
+#include <rayproof/ray_plane.hpp>
+#include <rayproof/ray_sphere.hpp>
 #include <rayproof/types.hpp>
 
 #include <concepts>
+#include <cstddef>
 #include <span>
 #include <stdexcept>
 
 namespace rayproof {
 
-// True when the kernel answers this combination (every shape, scalar type and mode
-// named by the contract once all modes are implemented).
+// True when the kernel answers this combination: every shape, scalar type and mode the
+// contract names.
 template <class T, class Shape, class Mode>
 concept Answerable = is_scalar_v<T> && is_shape_v<Shape, T> && is_mode_v<Mode> &&
     requires(const Ray<T>& r, const Shape& s, Mode m) {

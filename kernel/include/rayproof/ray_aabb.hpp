@@ -48,7 +48,11 @@
 //            rounding, and what it cannot decide goes to the same general path.
 #pragma once
 
+#include <rayproof/detail/certified.hpp>
+#include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/lanes.hpp>
+#include <rayproof/detail/prepared.hpp>
+#include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/slab_certified.hpp>
 #include <rayproof/detail/slab_fast.hpp>
 #include <rayproof/detail/validate.hpp>
@@ -57,36 +61,11 @@
 
 namespace rayproof::detail {
 
-// A box with its validity decided once (the batch form prepares once per call). It
-// refers to the caller's box, which outlives the query: a copy would live on the stack
-// whenever the general path takes its address, and every query would pay for it.
-template <class T> struct PreparedAabb {
-    const Aabb<T>& box;
-    bool ok;
-};
-template <class T> RAYPROOF_ALWAYS_INLINE PreparedAabb<T> prepare(const Aabb<T>& b) { return {b, valid(b)}; }
+template <class T> using PreparedAabb = Prepared<Aabb<T>>;  // detail/prepared.hpp
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return slab_fast(r.origin.data(), r.direction.data(), p.box.lo.data(), p.box.hi.data(), r.t_min, r.t_max);
-}
-
-// x·y - z with one rounding: the fused multiply-add where the target has one, else
-// Dekker's exact product (x·y = ph + pl, Veltkamp splitting; exact when nothing
-// overflows or underflows) followed by (ph - z) + pl, where ph - z is exact
-// (Sterbenz: ph and z are within a factor 2 of each other in the use below) and the
-// last subtraction rounds once.
-RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
-#if defined(__FMA__) || defined(__FP_FAST_FMA)
-    return std::fma(x, y, -z);
-#else
-    constexpr double split = 134217729.0;  // 2^27 + 1
-    const double cx = split * x, cy = split * y;
-    const double xh = cx - (cx - x), xl = x - xh, yh = cy - (cy - y), yl = y - yh;
-    const double ph = x * y;
-    const double pl = ((xh * yh - ph) + xh * yl + xl * yh) + xl * yl;
-    return (ph - z) + pl;
-#endif
+    return slab_fast(r.origin.data(), r.direction.data(), p.shape.lo.data(), p.shape.hi.data(), r.t_min, r.t_max);
 }
 
 // (p - o)/d faithfully rounded to T by one compensated correction of an approximation
@@ -100,7 +79,7 @@ RAYPROOF_ALWAYS_INLINE double mul_sub(double x, double y, double z) {
 // 2^-960 and 1/d normal (no underflow in r~ or delta), |t~|, |d| <= 2^995.
 // faithful_slab_double is the correction in double, branch-free: {t', ok}; ok is false
 // where the conditions above fail. p == o gives exactly +0 (ok). faithful_to
-// (detail/slab_certified.hpp) rounds it to T.
+// (detail/certified.hpp) rounds it to T.
 struct FaithfulDouble {
     double t;
     bool ok;
@@ -149,10 +128,6 @@ public:
     }
     int den_sign(int i) const { return (d_[i] > 0) - (d_[i] < 0); }
     bool inside_parallel(int i) const { return b_->lo[i] <= o_[i] && o_[i] <= b_->hi[i]; }
-    // Both are exact comparisons of floats already (the names the other frames use for
-    // their exact stage).
-    int den_sign_exact(int i) const { return den_sign(i); }
-    bool inside_parallel_exact(int i) const { return inside_parallel(i); }
     Interval<double> enclose(int i, int side) const {
         if (ok_) return {t_[i][side] - e_[i][side], t_[i][side] + e_[i][side]};
         const double s = double(plane(i, side)) - double(o_[i]);
@@ -182,9 +157,11 @@ private:
     bool ok_;
 };
 
+static_assert(SlabFrame<AabbFrame<float>, float> && SlabFrame<AabbFrame<double>, double>);
+
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conservative_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return slab_conservative(AabbFrame<T>(r, p.box), r.t_min, r.t_max);
+    return slab_conservative(AabbFrame<T>(r, p.shape), r.t_min, r.t_max);
 }
 
 // The certified answer's common case in straight-line code, the entry problem in lane 0
@@ -324,7 +301,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
 // is certain when the latest entry's upper bound lies below the earliest exit's lower
 // bound, a miss when the latest entry's lower bound lies above the earliest exit's
 // upper bound; no winner is needed, and nothing is rounded. verdict_declined when the
-// general path must decide (see verdict_or, detail/slab_certified.hpp). Both are never
+// general path must decide (see verdict_or, detail/certified.hpp). Both are never
 // proven at once (g <= h in each lane, and rounding is monotone).
 template <class T> RAYPROOF_ALWAYS_INLINE int aabb_verdict_common(const Ray<T>& r, const Aabb<T>& b) {
     using namespace lanes;
@@ -431,12 +408,12 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_declined(c
 // The certified answer in full. The prepared flag is not consulted: the straight-line
 // path checks validity itself, and what it declines is validated again.
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
-    return common_or_general(aabb_certified_common(r, p.box), [&] { return aabb_certified_declined(r, p.box); });
+    return common_or_general(aabb_certified_common(r, p.shape), [&] { return aabb_certified_declined(r, p.shape); });
 }
 
 // The certified verdict alone: the same lanes and the same fallback as the full query.
 template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
-    return verdict_or(aabb_verdict_common(r, p.box), [&] { return aabb_certified_declined(r, p.box).verdict; });
+    return verdict_or(aabb_verdict_common(r, p.shape), [&] { return aabb_certified_declined(r, p.shape).verdict; });
 }
 
 }  // namespace rayproof::detail

@@ -39,7 +39,13 @@
 //            between the neighbours of its midpoint, else exactly.
 #pragma once
 
+#include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/compensated.hpp>
+#include <rayproof/detail/eft.hpp>
+#include <rayproof/detail/interval.hpp>
+#include <rayproof/detail/lanes.hpp>
+#include <rayproof/detail/prepared.hpp>
+#include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/slab_certified.hpp>
 #include <rayproof/detail/slab_fast.hpp>
 #include <rayproof/detail/validate.hpp>
@@ -141,18 +147,6 @@ public:
         if (op_[i].lo > h || op_[i].hi < -h) return false;
         return inside_parallel_exact(i);
     }
-    // The same decisions without the interval filter (the exact stage alone).
-    bool inside_parallel_exact(int i) const {
-        const double h = b_->half_extent[i];
-        const std::optional<bool> in = with_exact(safe(), [&](auto tag) -> std::optional<bool> {
-            using E = typename decltype(tag)::type;
-            const E o = oprime<E>(i), eh(h);
-            const E above = eh - o, below = eh + o;
-            if (any_overflowed(above, below)) return std::nullopt;
-            return above.sign() >= 0 && below.sign() >= 0;
-        });
-        return *in;
-    }
     Interval<double> enclose(int i, int side) const {
         const double h = b_->half_extent[i];
         return divide_signed(Interval<double>(side ? h : -h) - op_[i], dp_[i], sden_[i]);
@@ -180,9 +174,19 @@ public:
         return exact_faithful<T>(*this, i, side);
     }
 
-    int den_sign_exact(int i) const { return exact_den_sign(i); }
-
 private:
+    // Exact: the origin lies in the closed slab i.
+    bool inside_parallel_exact(int i) const {
+        const double h = b_->half_extent[i];
+        const std::optional<bool> in = with_exact(safe(), [&](auto tag) -> std::optional<bool> {
+            using E = typename decltype(tag)::type;
+            const E o = oprime<E>(i), eh(h);
+            const E above = eh - o, below = eh + o;
+            if (any_overflowed(above, below)) return std::nullopt;
+            return above.sign() >= 0 && below.sign() >= 0;
+        });
+        return *in;
+    }
     static Interval<double> around(double v, double e) {
         constexpr double inf = std::numeric_limits<double>::infinity();
         if (!(e <= std::numeric_limits<double>::max())) return {-inf, inf};
@@ -207,6 +211,8 @@ private:
     Interval<double> op_[3], dp_[3];
     int sden_[3];
 };
+
+static_assert(SlabFrame<ObbFrame<float>, float> && SlabFrame<ObbFrame<double>, double>);
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, conservative_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
@@ -243,7 +249,7 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, conser
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_certified_common(const Ray<T>& r, const Obb<T>& b) {
     using namespace lanes;
-    constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022, u = exact_impl::u;
+    constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022, u = unit_roundoff<double>;
     D2 delta_d[3];  // (fl(o_j - c_j), d_j)
     for (int j = 0; j < 3; ++j)
         delta_d[j] = make(double(r.origin[j]) - double(b.center[j]), double(r.direction[j]));

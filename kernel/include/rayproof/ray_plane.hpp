@@ -36,10 +36,13 @@
 //            it can: verdict() answers from it alone, the full query takes its misses.
 #pragma once
 
+#include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/interval.hpp>
-#include <rayproof/detail/slab_certified.hpp>
+#include <rayproof/detail/lanes.hpp>
+#include <rayproof/detail/prepared.hpp>
+#include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/validate.hpp>
 
 #include <cmath>
@@ -47,17 +50,12 @@
 
 namespace rayproof::detail {
 
-// The caller's plane (which outlives the query) and its validity, decided once.
-template <class T> struct PreparedPlane {
-    const Plane<T>& plane;
-    bool ok;
-};
-template <class T> RAYPROOF_ALWAYS_INLINE PreparedPlane<T> prepare(const Plane<T>& p) { return {p, valid(p)}; }
+template <class T> using PreparedPlane = Prepared<Plane<T>>;  // detail/prepared.hpp
 
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, fast_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
-    const T den = p.plane.normal.dot(r.direction);
-    const T num = p.plane.offset - p.plane.normal.dot(r.origin);
+    const T den = p.shape.normal.dot(r.direction);
+    const T num = p.shape.offset - p.shape.normal.dot(r.origin);
     Hit<T> h;
     if (den == 0) {
         if (num == 0) {
@@ -237,7 +235,8 @@ public:
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, 0, 0);
     }
-    // Interface of the slab frames, for exact_compare / exact_faithful (axis 0 only).
+    // A source of exact quotients (detail/certified.hpp), for exact_compare and
+    // exact_faithful (axis 0, side 0 only).
     template <class E> E num(int = 0, int = 0) const {
         E s(double(p_->offset));
         for (int j = 0; j < 3; ++j) s = s - E(double(p_->normal[j])) * E(double(r_->origin[j]));
@@ -267,6 +266,8 @@ private:
     int sden_;
 };
 
+static_assert(ExactQuotients<PlaneCrossing<float>> && ExactQuotients<PlaneCrossing<double>>);
+
 // A ray parallel to the plane (n·d == 0 exactly) lies in it, and hits on its whole
 // range, or misses; every mode decides this the same way (exactly).
 template <class T, class X> Hit<T> parallel_answer(const Ray<T>& r, const X& x) {
@@ -281,7 +282,7 @@ template <class T, class X> Hit<T> parallel_answer(const Ray<T>& r, const X& x) 
 
 template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, conservative_t) {
     if (!p.ok || !valid(r)) return invalid_hit<T>();
-    const PlaneCrossing<T> x(r, p.plane);
+    const PlaneCrossing<T> x(r, p.shape);
     Hit<T> h;
     if (x.den_sign() == 0) return parallel_answer(r, x);
     const Interval<double> t = x.enclose();
@@ -387,8 +388,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
     // and the ray valid apart from t_min and t_max (see plane_certified_common), so it
     // takes those as a flag; anything it declines is validated in full first.
     const bool rest_valid = valid_range(r);
-    return common_or_general(plane_certified_common(r, p.plane, rest_valid),
-                             [&] { return plane_certified_declined(r, p.plane); });
+    return common_or_general(plane_certified_common(r, p.shape, rest_valid),
+                             [&] { return plane_certified_declined(r, p.shape); });
 }
 
 // What the verdict filter declines: the full query's verdict, out of line.
@@ -399,7 +400,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Verdict plane_verdict_declined(c
 // The certified verdict alone: the filter's verdict (which proves the input valid),
 // else the full query's. The prepared flag is not consulted on the filter's path.
 template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
-    return verdict_or(plane_verdict_common(r, p.plane), [&] { return plane_verdict_declined(r, p.plane); });
+    return verdict_or(plane_verdict_common(r, p.shape), [&] { return plane_verdict_declined(r, p.shape); });
 }
 
 }  // namespace rayproof::detail

@@ -7,14 +7,14 @@
 //   if (hit) use(hit.t_enter, hit.face, rayproof::normal(box, hit, ray));
 //
 // Meaning of every answer: docs/semantics.md. One header per query pair below; the
-// internals live in detail/.
+// internals live in detail/. Every header here stands alone (any order compiles).
 #pragma once
 
-#include <rayproof/types.hpp>
+#include <rayproof/intersect.hpp>
+#include <rayproof/io.hpp>
+#include <rayproof/normal.hpp>
 #include <rayproof/ray_aabb.hpp>
 #include <rayproof/ray_obb.hpp>
 #include <rayproof/ray_plane.hpp>
 #include <rayproof/ray_sphere.hpp>
-#include <rayproof/intersect.hpp>
-#include <rayproof/normal.hpp>
-#include <rayproof/io.hpp>
+#include <rayproof/types.hpp>

@@ -14,6 +14,7 @@
 
 #include <limits>
 #include <ostream>
+#include <type_traits>
 
 namespace rayproof {
 

@@ -65,8 +65,10 @@
 // exact_product keeps its own fused and split forms apart.
 #pragma once
 
-#include <rayproof/detail/exact.hpp>
+#include <rayproof/detail/eft.hpp>
+#include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/lanes.hpp>
+#include <rayproof/detail/rounding.hpp>
 
 #include <cmath>
 #include <limits>
@@ -92,7 +94,7 @@ RAYPROOF_ALWAYS_INLINE QuotientSums quotient_sums(lanes::D2 start, const lanes::
                                                   lanes::M2 inputs_in_range) {
     using namespace lanes;
     static_assert(P >= 1 && P <= 6);
-    constexpr double K = 2 * exact_impl::gamma(2 * P - 1);
+    constexpr double K = 2 * gamma<double>(2 * P - 1);
     D2 s = start, c = splat(0.0), S = splat(0.0);
     for (int k = 0; k < P; ++k) {
         const Product q = exact_product(a[k], b[k]);
@@ -101,9 +103,9 @@ RAYPROOF_ALWAYS_INLINE QuotientSums quotient_sums(lanes::D2 start, const lanes::
         c = (c + x.lo) + q.lo;
         S = (S + abs(x.lo)) + abs(q.lo);
     }
-    const D2 hi = s + c, lo = c - (hi - s);
+    const SumOf<D2> r = fast_two_sum(s, c);
     const M2 renormal = (abs(c) <= abs(s)) | (s == splat(0.0));
-    return {hi, lo, S * splat(K), bits(inputs_in_range & renormal) == 3};
+    return {r.hi, r.lo, S * splat(K), bits(inputs_in_range & renormal) == 3};
 }
 
 // t = N/D pinned: t lies strictly between the two neighbours of c when pinned.
@@ -113,7 +115,7 @@ struct PinnedQuotient {
 };
 RAYPROOF_ALWAYS_INLINE PinnedQuotient pin_quotient(const QuotientSums& s) {
     using namespace lanes;
-    constexpr double u = exact_impl::u;
+    constexpr double u = unit_roundoff<double>;
     const double nh = lane0(s.hi), nl = lane0(s.lo), dh = lane1(s.hi), dl = lane1(s.lo), bn = lane0(s.bound),
                  bd = lane1(s.bound);
     // R(tt) and the candidate.

@@ -27,9 +27,12 @@
 //
 // Reference: J. R. Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast
 // Robust Geometric Predicates", Discrete Comput. Geom. 18 (1997) — theorem numbers
-// below refer to it. Error bounds use gamma(n) = n·u/(1 − n·u), u = 2^-53 (Higham,
-// "Accuracy and Stability of Numerical Algorithms", 2nd ed., Lemma 3.1).
+// below refer to it. Error bounds use gamma(n) = n·u/(1 − n·u), u = 2^-53
+// (detail/rounding.hpp).
 #pragma once
+
+#include <rayproof/detail/eft.hpp>
+#include <rayproof/detail/rounding.hpp>
 
 #include <Eigen/Core>
 
@@ -56,50 +59,8 @@
 
 namespace rayproof::detail {
 
-// ===================================================================================
-// 1. Error-free transformations
-// ===================================================================================
-
-// An unevaluated sum hi + lo: of two doubles (Pair), or lane by lane of two
-// lanes::D2 (the certified box's two-lane path).
-template <class V> struct SumOf {
-    V hi, lo;
-};
-using Pair = SumOf<double>;
-
-// Knuth's TwoSum: hi = fl(a + b) and lo = (a + b) − hi exactly. Branch-free, 6 flops,
-// no precondition on the order of a and b. Exact whenever no operation overflows,
-// subnormals included (the error of a floating-point addition is always
-// representable); that holds for |a|, |b| <= 2^1022. Near ±max the intermediate
-// s − a can overflow although s does not: lo is then NaN (expansions catch it as a
-// non-finite component), never a wrong finite value. V is double, or lanes::D2 (the same
-// operations in each lane).
-template <class V> inline SumOf<V> two_sum(V a, V b) {
-    const V s = a + b;
-    const V bv = s - a;
-    const V av = s - bv;
-    return {s, (a - av) + (b - bv)};
-}
-
-// Dekker's FastTwoSum: hi = fl(a + b), lo = (a + b) − hi, 3 flops. Exact when
-// a == 0 or exponent(a) >= exponent(b) (in particular when |a| >= |b|) and fl(a + b)
-// does not overflow (then s − a is exact, no intermediate can overflow).
-inline Pair fast_two_sum(double a, double b) {
-    const double s = a + b;
-    const double bv = s - a;
-    return {s, b - bv};
-}
-
-// TwoProduct with a fused multiply-add: hi = fl(a·b), lo = a·b − hi exactly.
-// Exact when the product does not overflow and its error term is representable. The
-// error is an integer multiple of 2^(la+lb) below 2^53 units, la and lb the exponents
-// of the last bits of a and b, so it is representable exactly when la + lb >= −1074;
-// a sufficient condition is |hi| >= 2^(emin + 2p) = 2^-916, i.e. the error term is not
-// subnormal (then exponent(a) + exponent(b) >= −918, la + lb >= −1022).
-inline Pair two_prod(double a, double b) {
-    const double p = a * b;
-    return {p, std::fma(a, b, -p)};
-}
+// Error-free transformations (SumOf, Pair, two_sum, fast_two_sum, two_prod):
+// detail/eft.hpp.
 
 // value ≈ mant · 2^exp with |mant| in [0.5, 1), or mant == 0 and exp == 0 for zero.
 struct Approx {
@@ -108,10 +69,6 @@ struct Approx {
 };
 
 namespace exact_impl {
-
-inline constexpr double u = 0x1p-53;  // unit roundoff of double
-// gamma(n) = n·u/(1 − n·u) bounds |θ| in Π(1 + δ_i)^±1 = 1 + θ over n roundings |δ_i| <= u.
-constexpr double gamma(int n) { return n * u / (1 - n * u); }
 
 // Below this magnitude a two_prod error term may be subnormal, hence possibly
 // inexact (see two_prod): such products raise the expansion's overflowed() flag.
@@ -667,7 +624,6 @@ template <class E, class T> std::optional<int> side(const E& num, const E& den, 
 // The faithful quotient; nullopt if an expansion overflowed on the way.
 template <class T, class E> std::optional<T> quotient(const E& num, const E& den) {
     constexpr T kMax = std::numeric_limits<T>::max();
-    constexpr T kInf = std::numeric_limits<T>::infinity();
     constexpr long kMaxExp = std::numeric_limits<T>::max_exponent;  // max < 2^kMaxExp
     constexpr long kMinExp = std::numeric_limits<T>::min_exponent - std::numeric_limits<T>::digits;  // denorm_min = 2^kMinExp
     const int sden = den.sign();
@@ -692,7 +648,7 @@ template <class T, class E> std::optional<T> quotient(const E& num, const E& den
     if (!s0) return std::nullopt;
     const int s = *s0;  // sign(quotient − q), constant while stepping
     while (s != 0) {
-        const T next = std::nextafter(q, s > 0 ? kInf : -kInf);
+        const T next = s > 0 ? step_up(q) : step_down(q);
         if (std::isinf(next)) break;  // quotient beyond ±max: q = ±max encloses it
         const std::optional<int> s1 = side(num, den, sden, next);
         if (!s1) return std::nullopt;
@@ -784,7 +740,7 @@ template <class T> int det3_sign(const Eigen::Matrix<T, 3, 3>& m) {
         const double perm = std::abs(a) * (std::abs(e) * std::abs(i) + std::abs(f) * std::abs(h)) +
                             std::abs(b) * (std::abs(d) * std::abs(i) + std::abs(f) * std::abs(g)) +
                             std::abs(c) * (std::abs(d) * std::abs(h) + std::abs(e) * std::abs(g));
-        constexpr double kBound = exact_impl::gamma(7);
+        constexpr double kBound = gamma<double>(7);
         const double bound = kBound * perm;
         if (det > bound) return 1;
         if (-det > bound) return -1;

@@ -1,15 +1,9 @@
-// rayproof/detail/float_util.hpp — rounding-error constants and float stepping.
-//
-// u is the unit roundoff of T (half an ulp of 1): 2^-24 for float, 2^-53 for double.
-// gamma(n) = n·u / (1 − n·u) bounds the relative error of n successive correctly
-// rounded operations whose results neither overflow nor leave the normal range
-// (Higham, "Accuracy and Stability of Numerical Algorithms", 2nd ed., Lemma 3.1;
-// pbrt-v4 section 6.8.1 uses the same notation).
+// rayproof/detail/float_util.hpp — the compiler hints of the hot paths, infinity and a
+// finiteness test. The rounding primitives (u, gamma(n), stepping) live in
+// detail/rounding.hpp.
 #pragma once
 
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <limits>
 
 // Inlining and unrolling hints for the few hot straight-line routines whose speed is
@@ -31,17 +25,7 @@
 
 namespace rayproof::detail {
 
-template <class T> inline constexpr T unit_roundoff = std::numeric_limits<T>::epsilon() / 2;
-
-template <class T> constexpr T gamma(int n) {
-    return (T(n) * unit_roundoff<T>) / (T(1) - T(n) * unit_roundoff<T>);
-}
-
 template <class T> inline constexpr T inf = std::numeric_limits<T>::infinity();
-
-// The next representable value towards +inf / -inf (nextafter without errno traffic).
-template <class T> inline T next_up(T x) { return std::nextafter(x, inf<T>); }
-template <class T> inline T next_down(T x) { return std::nextafter(x, -inf<T>); }
 
 template <class T> inline bool finite3(const T* v) {
     return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);

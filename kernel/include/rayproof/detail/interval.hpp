@@ -10,44 +10,13 @@
 // section 6.8.1 "Interval"; Moore, "Interval Analysis", 1966).
 #pragma once
 
+#include <rayproof/detail/rounding.hpp>
+
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 
 namespace rayproof::detail {
-
-// The next representable value above / below x, by bit manipulation (no errno, inline).
-// ±inf and NaN are returned unchanged; next_up(-0) is the smallest positive subnormal.
-inline double step_up(double x) {
-    if (std::isinf(x) && x > 0) return x;
-    if (x == 0) return std::numeric_limits<double>::denorm_min();
-    std::uint64_t b = std::bit_cast<std::uint64_t>(x);
-    b = x > 0 ? b + 1 : b - 1;
-    return std::bit_cast<double>(b);
-}
-inline double step_down(double x) {
-    if (std::isinf(x) && x < 0) return x;
-    if (x == 0) return -std::numeric_limits<double>::denorm_min();
-    std::uint64_t b = std::bit_cast<std::uint64_t>(x);
-    b = x > 0 ? b - 1 : b + 1;
-    return std::bit_cast<double>(b);
-}
-inline float step_up(float x) {
-    if (std::isinf(x) && x > 0) return x;
-    if (x == 0) return std::numeric_limits<float>::denorm_min();
-    std::uint32_t b = std::bit_cast<std::uint32_t>(x);
-    b = x > 0 ? b + 1 : b - 1;
-    return std::bit_cast<float>(b);
-}
-inline float step_down(float x) {
-    if (std::isinf(x) && x < 0) return x;
-    if (x == 0) return -std::numeric_limits<float>::denorm_min();
-    std::uint32_t b = std::bit_cast<std::uint32_t>(x);
-    b = x > 0 ? b - 1 : b + 1;
-    return std::bit_cast<float>(b);
-}
 
 // A closed interval [lo, hi] of reals, lo <= hi, ends possibly ±inf.
 template <class T> struct Interval {
@@ -114,12 +83,6 @@ template <class T> Interval<T> sqrt_nonneg(Interval<T> a) {
 }
 
 template <class T> bool is_finite(Interval<T> a) { return std::isfinite(a.lo) && std::isfinite(a.hi); }
-
-// a·b for exact floats a, b (the error is one rounding: one step outward covers it).
-template <class T> Interval<T> exact_product(T a, T b) {
-    const T p = a * b;
-    return {step_down(p), step_up(p)};
-}
 
 // Bound of the quotient n/d given the exact sign of d (nonzero) when d's interval may
 // still hold zero: d lies in (0, d.hi] (or [d.lo, 0)), so n/d is unbounded on the side

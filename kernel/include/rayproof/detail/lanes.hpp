@@ -11,6 +11,7 @@
 // on a NaN) and give a lane mask whose bits() are bit 0 for lane 0, bit 1 for lane 1.
 #pragma once
 
+#include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/float_util.hpp>
 
 #include <bit>
@@ -101,23 +102,14 @@ RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 a) { return {_mm_and_pd(m.v, a.v)}; }
 RAYPROOF_ALWAYS_INLINE D2 select(M2 m, D2 a, D2 b) { return {_mm_or_pd(_mm_and_pd(m.v, a.v), _mm_andnot_pd(m.v, b.v))}; }
 
 // hi = fl(a·b) and lo = a·b - hi exactly, in each lane (see exact_product below).
-struct Product {
-    D2 hi, lo;
-};
+using Product = SumOf<D2>;
 #if defined(__FMA__)
 RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
     const __m128d p = _mm_mul_pd(a.v, b.v);
     return {{p}, {_mm_fmsub_pd(a.v, b.v, p)}};
 }
 #else
-RAYPROOF_ALWAYS_INLINE D2 high_part(D2 a) {  // Veltkamp's split: a - high_part(a) is exact
-    const __m128d c = _mm_mul_pd(_mm_set1_pd(134217729.0), a.v);  // 2^27 + 1
-    return {_mm_sub_pd(c, _mm_sub_pd(c, a.v))};
-}
-RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
-    const D2 ah = high_part(a), bh = high_part(b), al = a - ah, bl = b - bh, p = a * b;
-    return {p, (((ah * bh - p) + ah * bl) + al * bh) + al * bl};
-}
+RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) { return dekker_product(a, b, splat(kVeltkampFactor)); }
 #endif
 
 #else  // two scalars, the same semantics lane by lane
@@ -168,9 +160,7 @@ RAYPROOF_ALWAYS_INLINE D2 high26(D2 x) { return {high26(x.a), high26(x.b)}; }
 RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 x) { return {m.a ? x.a : 0.0, m.b ? x.b : 0.0}; }
 RAYPROOF_ALWAYS_INLINE D2 select(M2 m, D2 x, D2 y) { return {m.a ? x.a : y.a, m.b ? x.b : y.b}; }
 
-struct Product {
-    D2 hi, lo;
-};
+using Product = SumOf<D2>;
 RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
     const D2 p = a * b;
     return {p, {std::fma(a.a, b.a, -p.a), std::fma(a.b, b.b, -p.b)}};
@@ -179,12 +169,11 @@ RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
 #endif
 
 // exact_product(a, b): the exact product split in two, by a fused multiply-add where the
-// target has one, else by Dekker's product ("A floating-point technique for extending
-// the available precision", Numer. Math. 18, 1971) on Veltkamp's split (each factor
-// a = ah + al exactly, ah and al of at most 26 significant bits, so the four partial
-// products are exact and so is every step of the error's sum). Both are exact in a lane
-// where |a|, |b| <= 2^995 (the split cannot overflow), neither is subnormal, and
-// |hi| >= 2^-916 or a factor is 0: then the exponents of a and b add up to at least -918,
+// target has one, else by Dekker's product on Veltkamp's split (detail/eft.hpp: each
+// factor a = ah + al exactly, ah and al of at most 26 significant bits, so the four
+// partial products are exact and so is every step of the error's sum). Both are exact
+// in a lane where |a|, |b| <= 2^995 (the split cannot overflow), neither is subnormal,
+// and |hi| >= 2^-916 or a factor is 0: then the exponents of a and b add up to at least -918,
 // every partial product is a multiple of 2^-1022 and nothing is lost to underflow. The
 // fused form is written out with its own intrinsic, and the split form is used only
 // where the target has no fused multiply-add, so contraction (-ffp-contract=fast) cannot

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <rayproof/detail/float_util.hpp>
+#include <rayproof/detail/rounding.hpp>
 #include <rayproof/types.hpp>
 
 #include <bit>
@@ -32,7 +33,7 @@ namespace rayproof::detail {
 // Branch-free choice between two floats (random ray directions make a branch on the
 // sign of d_i mispredict half the time).
 template <class T> inline T pick(bool first, T a, T b) {
-    using U = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
+    using U = FloatBits<T>;
     const U m = U(0) - U(first);
     return std::bit_cast<T>(U((std::bit_cast<U>(a) & m) | (std::bit_cast<U>(b) & ~m)));
 }

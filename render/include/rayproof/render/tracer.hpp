@@ -26,6 +26,7 @@
 // Secondary-ray origins: see offset_distance and offset_origin below (no fixed epsilon).
 #pragma once
 
+#include <rayproof/detail/rounding.hpp>
 #include <rayproof/render/image.hpp>
 #include <rayproof/render/scene.hpp>
 
@@ -86,11 +87,8 @@ std::optional<Color> radiance(const Scene& scene, double px, double py, const Tr
 // --- building blocks, exposed for the tests ------------------------------------------
 
 // gamma(n) = n·u / (1 - n·u), u = 2^-53: bounds the relative error of n correctly
-// rounded double operations (Higham, Lemma 3.1; pbrt-v4 section 6.8.1).
-constexpr double gamma_bound(int n) {
-    constexpr double u = 0x1p-53;
-    return (n * u) / (1 - n * u);
-}
+// rounded double operations (the kernel's rayproof::detail::gamma, detail/rounding.hpp).
+constexpr double gamma_bound(int n) { return ::rayproof::detail::gamma<double>(n); }
 
 // A point where a ray meets a surface, ready for shading and for spawning rays.
 struct SurfacePoint {

@@ -1,0 +1,176 @@
+// rayproof/detail/certified.hpp — what every shape's certified (and conservative) mode
+// shares, apart from any one method: the exact-stage counters, the meeting of a
+// straight-line path with its general path (common_or_general) and of a verdict filter
+// with its fallback (verdict_or), the exact decisions on quotients num/den
+// (exact_compare, exact_faithful), and the roundings of a double to T (faithful_to,
+// round_down_to, round_up_to, faithful_from_enclosure).
+#pragma once
+
+#include <rayproof/detail/exact.hpp>
+#include <rayproof/detail/float_util.hpp>
+#include <rayproof/detail/interval.hpp>
+#include <rayproof/detail/rounding.hpp>
+#include <rayproof/types.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+#include <limits>
+#include <optional>
+#include <type_traits>
+
+namespace rayproof::detail {
+
+#ifdef RAYPROOF_COUNTERS
+// How often the certified mode left its floating-point filter for exact arithmetic.
+struct ExactStageCounters {
+    unsigned long long queries = 0;  // certified queries answered
+    unsigned long long exact = 0;    // of which needed at least one exact decision
+};
+inline thread_local ExactStageCounters exact_stage_counters;
+#define RAYPROOF_COUNT_QUERY() (++::rayproof::detail::exact_stage_counters.queries)
+#define RAYPROOF_COUNT_EXACT(flag) ((flag) = true)
+#define RAYPROOF_COUNT_FLUSH(flag) ((flag) ? ++::rayproof::detail::exact_stage_counters.exact : 0ULL)
+#else
+#define RAYPROOF_COUNT_QUERY() ((void)0)
+#define RAYPROOF_COUNT_EXACT(flag) ((void)(flag))
+#define RAYPROOF_COUNT_FLUSH(flag) ((void)(flag))
+#endif
+
+// The faithfully rounded double to T: a faithfully rounded double rounded to nearest T
+// is a faithfully rounded T (the two T values enclosing t enclose the double); beyond
+// the largest finite T the enclosing finite neighbour is answered, as exact_faithful
+// does.
+template <class T> T faithful_to(double t) {
+    if constexpr (std::is_same_v<T, double>) {
+        return t;
+    } else {
+        constexpr double big = std::numeric_limits<T>::max();
+        return static_cast<T>(std::min(std::max(t, -big), big));
+    }
+}
+
+// The certified answer from a straight-line path when it answered (`common`), else from
+// `general()`, a call of the general path. The two meet in the four fields, not in a Hit:
+// a Hit in memory written field by field and copied whole stalls on store-to-load
+// forwarding.
+template <class T, class General>
+RAYPROOF_ALWAYS_INLINE Hit<T> common_or_general(const std::optional<Hit<T>>& common, General&& general) {
+    Verdict verdict;
+    T t_enter, t_exit;
+    int face;
+    if (common) {
+        RAYPROOF_COUNT_QUERY();
+        verdict = common->verdict, t_enter = common->t_enter, t_exit = common->t_exit, face = common->face;
+    } else {
+        const Hit<T> g = general();
+        verdict = g.verdict, t_enter = g.t_enter, t_exit = g.t_exit, face = g.face;
+    }
+    Hit<T> out;
+    out.verdict = verdict;
+    out.t_enter = t_enter;
+    out.t_exit = t_exit;
+    out.face = face;
+    return out;
+}
+
+// The verdict filters' answer (ray_aabb.hpp, ray_plane.hpp, ray_sphere.hpp): int(Verdict::
+// miss) or int(Verdict::hit), or verdict_declined when the filter cannot decide; an int
+// rather than an optional, whose flag would go through memory on every query.
+inline constexpr int verdict_declined = -1;
+static_assert(int(Verdict::miss) == 0 && int(Verdict::hit) == 1);
+
+// The certified verdict from a filter's answer when it decided, else from `declined()`.
+template <class Declined> RAYPROOF_ALWAYS_INLINE Verdict verdict_or(int filtered, Declined&& declined) {
+    if (filtered != verdict_declined) [[likely]] {
+        RAYPROOF_COUNT_QUERY();
+        return Verdict(filtered);
+    }
+    return declined();
+}
+
+// A source of exact quotients: for each axis i and side, the real number
+// t(i, side) = num(i, side) / den(i), with num and den in any exact number type E of
+// detail/exact.hpp, and safe() saying whether the Expansion type is exact for this input
+// (see with_exact). The slab frames (detail/slab_certified.hpp) are such sources, and so
+// is the plane's crossing (axis 0, side 0 only).
+template <class S> concept ExactQuotients = requires(const S& s, int i, int side) {
+    { s.safe() } -> std::convertible_to<bool>;
+    { s.template num<Expansion<kDefaultExpansionCap>>(i, side) } -> std::same_as<Expansion<kDefaultExpansionCap>>;
+    { s.template den<Expansion<kDefaultExpansionCap>>(i) } -> std::same_as<Expansion<kDefaultExpansionCap>>;
+    { s.template num<BigDyadic>(i, side) } -> std::same_as<BigDyadic>;
+    { s.template den<BigDyadic>(i) } -> std::same_as<BigDyadic>;
+};
+
+// Exact sign of value(a) - value(b), each either a quotient of the source or a finite
+// constant.
+struct SlabRef {
+    int axis;  // -1: the constant c
+    int side;
+    double c;
+};
+
+template <ExactQuotients Source> int exact_compare(const Source& f, const SlabRef& a, const SlabRef& b) {
+    // ±inf constants (t_min = -inf, t_max = +inf) against finite quotients.
+    if (a.axis < 0 && std::isinf(a.c)) return a.c > 0 ? 1 : -1;
+    if (b.axis < 0 && std::isinf(b.c)) return b.c > 0 ? -1 : 1;
+    if (a.axis < 0 && b.axis < 0) return (a.c > b.c) - (a.c < b.c);
+    const std::optional<int> s = with_exact(f.safe(), [&](auto tag) -> std::optional<int> {
+        using E = typename decltype(tag)::type;
+        if (a.axis < 0) {
+            const E n = f.template num<E>(b.axis, b.side), d = f.template den<E>(b.axis);
+            if (any_overflowed(n, d)) return std::nullopt;
+            return -compare_quotient(n, d, a.c);
+        }
+        const E n1 = f.template num<E>(a.axis, a.side), d1 = f.template den<E>(a.axis);
+        if (any_overflowed(n1, d1)) return std::nullopt;
+        if (b.axis < 0) return compare_quotient(n1, d1, b.c);
+        const E n2 = f.template num<E>(b.axis, b.side), d2 = f.template den<E>(b.axis);
+        if (any_overflowed(n2, d2)) return std::nullopt;
+        return compare_quotients(n1, d1, n2, d2);
+    });
+    return *s;
+}
+
+// num/den faithfully rounded to T, in exact arithmetic.
+template <class T, ExactQuotients Source> T exact_faithful(const Source& f, int axis, int side) {
+    const std::optional<T> q = with_exact(f.safe(), [&](auto tag) -> std::optional<T> {
+        using E = typename decltype(tag)::type;
+        const E n = f.template num<E>(axis, side), d = f.template den<E>(axis);
+        if (any_overflowed(n, d)) return std::nullopt;
+        return faithful_quotient<T>(n, d);
+    });
+    return *q;
+}
+
+// The closest T to x in the direction of -inf / +inf (an outward rounding of a double
+// enclosure end to T; the identity for T = double).
+template <class T> T round_down_to(double x) {
+    if constexpr (std::is_same_v<T, double>) {
+        return x;
+    } else {
+        const T y = static_cast<T>(x);
+        return double(y) > x ? step_down(y) : y;
+    }
+}
+template <class T> T round_up_to(double x) {
+    if constexpr (std::is_same_v<T, double>) {
+        return x;
+    } else {
+        const T y = static_cast<T>(x);
+        return double(y) < x ? step_up(y) : y;
+    }
+}
+
+// Faithful rounding from an enclosure, when it is narrow enough: if [lo, hi] lies
+// strictly between the neighbours of m = RN(mid), the exact value x is in
+// (pred m, succ m), so m is one of the two floats enclosing x, and m == x when x is
+// representable. Otherwise nothing is returned.
+template <class T> std::optional<T> faithful_from_enclosure(const Interval<double>& v) {
+    const T m = static_cast<T>(v.mid());
+    if (!std::isfinite(m)) return std::nullopt;
+    if (double(step_down(m)) < v.lo && v.hi < double(step_up(m))) return m;
+    return std::nullopt;
+}
+
+}  // namespace rayproof::detail

@@ -1,0 +1,219 @@
+// rayproof/detail/sphere_straight_line.hpp — the straight-line path of the certified
+// Ray/Sphere query (sphere_certified_common): the roots estimated in double as the fast
+// mode does, each refined and proven, or a miss proven; anything it cannot prove is left
+// to the general path (sphere_general.hpp), whose answers it gives bit for bit.
+#pragma once
+
+#include <rayproof/detail/eft.hpp>
+#include <rayproof/detail/float_util.hpp>
+#include <rayproof/detail/rounding.hpp>
+#include <rayproof/detail/sphere_residual.hpp>
+#include <rayproof/types.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <utility>
+
+namespace rayproof::detail {
+
+// Signs of q(t) and of the slope a t + b at a finite t from one plain evaluation and a
+// static bound (1, -1, or 2 when the bound cannot decide), with Δ~_j = fl(o_j - c_j):
+//     w~_j = fl(Δ~_j + fl(t d_j)),  M_j = |Δ~_j| + |fl(t d_j)|,  |w~_j - w_j| <= gamma(2)·M_j
+// (Δ~_j and fl(t d_j) are each within u/(1 - u) of their exact values, the sum one more
+// rounding). Then |w~_j² - w_j²| <= |w~_j - w_j|·|w~_j + w_j| <= 2·gamma(2)(1 + gamma(3))·M_j²,
+// and the sum of four rounded squares is off by gamma(4)·Σ terms (Higham, ASNA, 3.1):
+//     |fl(Σ w~_j² - r²) - q(t)| <= gamma(9)·(Σ M_j² + r²).
+// Likewise |fl(Σ d_j w~_j) - (a t + b)| <= (gamma(2) + gamma(3)(1 + u))·Σ|d_j| M_j <= gamma(6)·Σ|d_j| M_j.
+// Each threshold is twice the bound evaluated in floating point (the doubling covers the
+// few roundings of the bound itself) plus 2^-1000 for underflow (at most 2^-1075 per
+// rounding, times at most 3·M_j where a square amplifies it, which for M_j >= 1 the
+// relative bound absorbs). A threshold above 2^1000 (an overflow near) decides nothing.
+struct SphereCheapSigns {
+    int q, slope;
+};
+RAYPROOF_ALWAYS_INLINE SphereCheapSigns sphere_cheap_signs(const double (&delta)[3], const double (&d)[3], double rad,
+                                                           double t) {
+    constexpr double eta = 0x1p-1000, g9 = 2 * gamma<double>(9), g6 = 2 * gamma<double>(6);
+    double v = -rad * rad, bq = rad * rad, sl = 0, bs = 0;
+    for (int j = 0; j < 3; ++j) {
+        const double p = t * d[j];
+        const double w = delta[j] + p, m = std::abs(delta[j]) + std::abs(p);
+        v += w * w;
+        bq += m * m;
+        sl += d[j] * w;
+        bs += std::abs(d[j]) * m;
+    }
+    const double tq = g9 * bq + eta, ts = g6 * bs + eta;
+    SphereCheapSigns out{2, 2};
+    if (tq <= 0x1p1000) out.q = v > tq ? 1 : v < -tq ? -1 : 2;
+    if (ts <= 0x1p1000) out.slope = sl > ts ? 1 : sl < -ts ? -1 : 2;
+    return out;
+}
+
+// The straight-line path of the certified mode: the roots estimated as the fast mode
+// does (in double), then proven. It answers a miss only when the line's distance from
+// the centre certainly exceeds r, or the sphere certainly lies beyond an end of the
+// range; a hit only with the signs of q at the estimates' floats and their neighbours
+// proven (cheap bound, else double-word), which pins t_enter as the least float g with
+// q(g) <= 0 after q(g-) > 0 (q convex: q decreases up to g, so every float below g is
+// outside, as the general path's search predicate also says), and t_exit likewise from
+// above. Anything else, nothing: the general path answers. Its answers are therefore the
+// general path's, bit for bit.
+// Distance certificate, with Δ~_j = fl(o_j - c_j), f = fl(b~/a~), P_j = fl(f d_j),
+// m~_j = fl(Δ~_j - P_j), n = fl(sqrt(fl(Σ m~_j²))), exact Δ, a, b:
+//   |m~_j - (Δ_j - f d_j)| <= gamma(2)(|Δ~_j| + |P_j|), so |Δ - f d| >= n(1 - gamma(3)) - gamma(2)·Σ(|Δ~_j| + |P_j|);
+//   |b~ - b| <= gamma(4)·Σ|d_j Δ~_j| and |a~ - a| <= gamma(3)·a give |f - b/a| <= gamma(8)·Σ|d_j Δ~_j|/a~,
+//   and by Cauchy-Schwarz ε² = a (f - b/a)² <= (gamma(9)·Σ|Δ~_j|)²;
+//   the line's distance l satisfies l² = |Δ - f d|² - ε² >= (|Δ - f d| - ε)², so
+//   l >= n - K, K = gamma(3)·n + gamma(2)·Σ(|Δ~_j| + |P_j|) + gamma(9)·Σ|Δ~_j| <= gamma(11)·(n + Σ|Δ~_j| + Σ|P_j|).
+// A miss is answered when fl(n - r) > 2·fl(gamma(11)·(...)) + 2^-500: the doubling covers
+// the roundings of both sides, 2^-500 the underflow of the squares under the square
+// root (at most 3·2^-1075 inside, 2^-535 outside). Valid while every nonzero input
+// magnitude (o, c, d, r) lies in [2^-300, 2^300]: then a, b, f and every product stay
+// far from overflow and only the squares of m~ and the tiny products can underflow.
+// The line o + t·d against the centre, in double, for the straight-line path: Δ~, a~,
+// b~, n (the estimate of the line's distance from the centre) and the threshold of the
+// distance certificate.
+struct SphereLine {
+    double d[3], delta[3];
+    double rad, a, b, n, cc;
+    double threshold;  // 2·fl(gamma(11)·(n + Σ|Δ~_j| + Σ|P_j|)) + 2^-500
+    bool in_range;     // every nonzero input magnitude in [2^-300, 2^300]
+};
+template <class T> RAYPROOF_ALWAYS_INLINE SphereLine sphere_line(const Ray<T>& r, const Sphere<T>& s) {
+    constexpr double g11 = 2 * gamma<double>(11), lo_mag = 0x1p-300, hi_mag = 0x1p300;
+    SphereLine L;
+    L.rad = double(s.radius);
+    // The largest input magnitude, and the smallest nonzero one (1 when all are 0).
+    auto nonzero_abs = [](double v) { return v == 0 ? 1.0 : std::abs(v); };
+    double largest = std::abs(L.rad), smallest = nonzero_abs(L.rad);
+    for (int j = 0; j < 3; ++j) {
+        const double o = double(r.origin[j]), c = double(s.center[j]);
+        L.d[j] = double(r.direction[j]);
+        L.delta[j] = o - c;
+        largest = std::max(largest, std::max(std::max(std::abs(o), std::abs(c)), std::abs(L.d[j])));
+        smallest = std::min(smallest, std::min(std::min(nonzero_abs(o), nonzero_abs(c)), nonzero_abs(L.d[j])));
+    }
+    L.in_range = largest <= hi_mag && smallest >= lo_mag;
+    const double(&d)[3] = L.d;
+    const double(&delta)[3] = L.delta;
+    L.a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    L.b = d[0] * delta[0] + d[1] * delta[1] + d[2] * delta[2];
+    const double f = L.b / L.a;
+    double n2 = 0, sum_dl = 0, sum_p = 0, cc = -L.rad * L.rad;
+    for (int j = 0; j < 3; ++j) {
+        const double p = f * d[j], m = delta[j] - p;
+        n2 += m * m;
+        sum_dl += std::abs(delta[j]);
+        sum_p += std::abs(p);
+        cc += delta[j] * delta[j];
+    }
+    L.cc = cc;
+    L.n = std::sqrt(n2);
+    L.threshold = g11 * (L.n + sum_dl + sum_p) + 0x1p-500;
+    return L;
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified_common(const Ray<T>& r,
+                                                                                          const Sphere<T>& s) {
+    const SphereLine L = sphere_line(r, s);
+    if (!L.in_range) return std::nullopt;
+    const double(&d)[3] = L.d;
+    const double(&delta)[3] = L.delta;
+    const double rad = L.rad, a = L.a, b = L.b, n = L.n, cc = L.cc;
+    Hit<T> h;
+    if (!(n <= rad)) {  // the estimate says the line misses: prove it, or hand over
+        if (n - rad > L.threshold) return h;
+        return std::nullopt;
+    }
+    // The roots as the fast mode estimates them: q = -(b + sign(b)·sqrt(disc)), t = q/a, c'/q.
+    const double disc = a * ((rad - n) * (rad + n));
+    const double qq = -(b + std::copysign(std::sqrt(disc), b));
+    double t0 = qq / a, t1 = cc / qq;
+    if (t1 < t0) std::swap(t0, t1);
+    if (!(std::isfinite(t0) && std::isfinite(t1))) return std::nullopt;
+
+    // Signs at the ends of the range (q(±inf) = +1: it grows without bound).
+    const bool min_inf = std::isinf(r.t_min), max_inf = std::isinf(r.t_max);
+    const SphereCheapSigns at_min = min_inf ? SphereCheapSigns{1, -1} : sphere_cheap_signs(delta, d, rad, double(r.t_min));
+    const SphereCheapSigns at_max = max_inf ? SphereCheapSigns{1, 1} : sphere_cheap_signs(delta, d, rad, double(r.t_max));
+    const SphereResidual res(double3(r.origin), double3(r.direction), double3(s.center), rad);
+    const int q_min = at_min.q != 2 ? at_min.q : res.sign_at(double(r.t_min));
+    const int q_max = at_max.q != 2 ? at_max.q : res.sign_at(double(r.t_max));
+    if (q_min == 2 || q_max == 2) return std::nullopt;
+    // The sphere certainly behind t_min, or beyond t_max: outside there, moving away
+    // (q is convex, so its slope only grows).
+    if (q_min > 0 && at_min.slope == 1) return h;
+    if (q_max > 0 && at_max.slope < 0) return h;
+
+    // A root estimate x refined and proven: q(x) ≈ v in double-word arithmetic, one
+    // Newton step x - v/(2(a x + b)) rounded to T gives the candidate g, and the sign of
+    // q at g and at a neighbour y of g comes from the exact expansion of the quadratic,
+    //     q(y) = q(x) + δ·σ,  δ = y - x (checked exact),  σ = a(2x + δ) + 2b,
+    // evaluated as V = fl(v + fl(δ·σ~)), σ~ = fl(fl(a~·fl(2x + δ)) + 2b~). With
+    // |b~ - b| <= gamma(4)·C (C = Σ|d_j Δ~_j|) and |a~ - a| <= gamma(3)·a,
+    // |σ~ - σ| <= gamma(7)·(|fl(a~·fl(2x + δ))| + 2C) =: e_σ, so
+    //     |V - q(y)| <= err_v + |δ|·e_σ + u|δ σ~| + u|V|/(1 - u),
+    // and the sign of V is q(y)'s when |V| exceeds 2(err_v + |δ|(e_σ + u|σ~|)) + 2^-1000
+    // (the doubling covers u|V| and the bound's own roundings, 2^-1000 underflow).
+    constexpr double g7 = gamma<double>(7), u = unit_roundoff<double>;
+    const double cab = std::abs(d[0] * delta[0]) + std::abs(d[1] * delta[1]) + std::abs(d[2] * delta[2]);
+    auto refine = [&](double x, T& g) {
+        const SphereResidual::Value qx = res.value_at(x);
+        g = static_cast<T>(x - qx.v / (2 * (a * x + b)));
+        if (g == 0) g = T(0);
+        return qx;
+    };
+    auto sign_near = [&](const SphereResidual::Value& qx, double x, T y) {
+        const Pair dd = two_sum(double(y), -x);
+        const double del = dd.hi;
+        const double xs = 2 * x + del, ax = a * xs, sig = ax + 2 * b;
+        const double e_sig = 2 * g7 * (std::abs(ax) + 2 * cab);
+        const double V = qx.v + del * sig;
+        const double thr = 2 * (qx.err + std::abs(del) * (e_sig + u * std::abs(sig))) + 0x1p-1000;
+        if (dd.lo != 0 || !(thr <= 0x1p1000)) return 2;
+        return V > thr ? 1 : V < -thr ? -1 : 2;
+    };
+    auto canonical = [](T x) { return x == 0 ? T(0) : x; };  // step_up(-min) is -0
+
+    T t_enter, t_exit;
+    if (q_min <= 0) {
+        t_enter = r.t_min;
+    } else {
+        // q decreases through t0: t_enter = g when q(g-) > 0 >= q(g), g+ when q(g) > 0 >= q(g+).
+        T g;
+        const SphereResidual::Value qx = refine(t0, g);
+        if (!(std::isfinite(g) && g > r.t_min)) return std::nullopt;
+        const int sg = sign_near(qx, t0, g);
+        if (sg < 0 && g <= r.t_max && sign_near(qx, t0, step_down(g)) == 1) {
+            t_enter = g;
+        } else if (sg == 1 && step_up(g) <= r.t_max && sign_near(qx, t0, step_up(g)) < 0) {
+            t_enter = canonical(step_up(g));
+        } else {
+            return std::nullopt;
+        }
+    }
+    if (q_max <= 0) {
+        t_exit = r.t_max;
+    } else {
+        // q increases through t1: t_exit = g when q(g) <= 0 < q(g+), g- when q(g-) <= 0 < q(g).
+        T g;
+        const SphereResidual::Value qx = refine(t1, g);
+        if (!(std::isfinite(g) && g < r.t_max)) return std::nullopt;
+        const int sg = sign_near(qx, t1, g);
+        if (sg < 0 && g >= r.t_min && sign_near(qx, t1, step_up(g)) == 1) {
+            t_exit = g;
+        } else if (sg == 1 && step_down(g) >= r.t_min && sign_near(qx, t1, step_down(g)) < 0) {
+            t_exit = canonical(step_down(g));
+        } else {
+            return std::nullopt;
+        }
+    }
+    h.verdict = Verdict::hit;
+    h.t_enter = t_enter > t_exit ? t_exit : t_enter;
+    h.t_exit = t_exit;
+    return h;
+}
+
+}  // namespace rayproof::detail
