@@ -39,7 +39,7 @@
 
 #include <fuzzer/FuzzedDataProvider.h>  // clang's; copied into the build tree for g++ (targets.cmake)
 
-#include <rayproof/rayproof.hpp>  // rayproof::detail::next_up / next_down
+#include <rayproof/rayproof.hpp>  // rayproof::detail::step_up / step_down
 #include <rayproof/types.hpp>
 
 #include <array>
@@ -74,12 +74,12 @@ enum Class : unsigned { small_int = 0, int16 = 1, special = 2, copy = 3, raw = 4
 inline constexpr int kCopySteps[16] = {0, 0, 0, 0, 1, -1, 1, -1, 2, -2, 3, -3, 16, -16, 1024, -1024};
 
 // The neighbours of x towards +inf / -inf: the kernel's own.
-using ::rayproof::detail::next_down;
-using ::rayproof::detail::next_up;
+using ::rayproof::detail::step_down;
+using ::rayproof::detail::step_up;
 template <class T> T nudged(T x, int steps) {
     if (std::isnan(x)) return x;
-    for (; steps > 0; --steps) x = next_up(x);
-    for (; steps < 0; ++steps) x = next_down(x);
+    for (; steps > 0; --steps) x = step_up(x);
+    for (; steps < 0; ++steps) x = step_down(x);
     return x;
 }
 
@@ -90,11 +90,11 @@ template <class T> const std::array<T, 32>& special_values() {
     static const std::array<T, 32> v = {
         T(0),                          -T(0),
         L::denorm_min(),               -L::denorm_min(),
-        next_down(L::min()),           -next_down(L::min()),  // the largest denormal
+        step_down(L::min()),           -step_down(L::min()),  // the largest denormal
         L::min(),                      -L::min(),
         L::max(),                      -L::max(),
         T(1),                          T(-1),
-        next_up(T(1)),                 next_down(T(1)),
+        step_up(T(1)),                 step_down(T(1)),
         L::epsilon(),                  T(0.5),
         T(2),                          L::infinity(),
         -L::infinity(),                L::quiet_NaN(),
@@ -102,11 +102,11 @@ template <class T> const std::array<T, 32>& special_values() {
         -std::ldexp(T(1), L::max_exponent / 2),
         std::ldexp(T(1), L::min_exponent / 2),  // squares near the underflow threshold
         -std::ldexp(T(1), L::min_exponent / 2),
-        next_down(L::max()),           T(3),
+        step_down(L::max()),           T(3),
         T(1) / T(3),                   T(-0.5),
         std::ldexp(T(1), -p),          // half an ulp of 1
         std::ldexp(T(1), p),           // the first integer whose ulp is 2
-        next_up(std::ldexp(T(1), p)),  L::denorm_min() * T(3),
+        step_up(std::ldexp(T(1), p)),  L::denorm_min() * T(3),
     };
     return v;
 }

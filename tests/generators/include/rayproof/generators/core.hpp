@@ -12,7 +12,7 @@
 #pragma once
 
 #include <rayproof/io.hpp>
-#include <rayproof/rayproof.hpp>  // rayproof::detail::next_up / next_down
+#include <rayproof/rayproof.hpp>  // rayproof::detail::step_up / step_down
 #include <rayproof/types.hpp>
 
 #include <Eigen/Geometry>  // cross products
@@ -92,16 +92,16 @@ template <class T> T from_bits(Bits<T> b) { return std::bit_cast<T>(b); }
 template <class T> Bits<T> to_bits(T x) { return std::bit_cast<Bits<T>>(x); }
 
 // The neighbours of x towards +inf / -inf: the kernel's own.
-using ::rayproof::detail::next_down;
-using ::rayproof::detail::next_up;
+using ::rayproof::detail::step_down;
+using ::rayproof::detail::step_up;
 // x moved by `steps` representable values (positive: up).
 template <class T> T nudge(T x, int steps) {
-    for (; steps > 0; --steps) x = next_up(x);
-    for (; steps < 0; ++steps) x = next_down(x);
+    for (; steps > 0; --steps) x = step_up(x);
+    for (; steps < 0; ++steps) x = step_down(x);
     return x;
 }
 // The two one-ulp neighbours of x.
-template <class T> std::array<T, 2> one_ulp_neighbours(T x) { return {next_down(x), next_up(x)}; }
+template <class T> std::array<T, 2> one_ulp_neighbours(T x) { return {step_down(x), step_up(x)}; }
 
 // The special values of T: signed zeros, the smallest and largest denormals, the smallest
 // normal, the largest finite, 1 and its neighbours, epsilon, each with both signs.
@@ -109,11 +109,11 @@ template <class T> const std::array<T, 22>& special_values() {
     using L = std::numeric_limits<T>;
     static const std::array<T, 22> values = {
         T(0),           -T(0),           L::denorm_min(), -L::denorm_min(),
-        next_down(L::min()), -next_down(L::min()),  // largest denormal
+        step_down(L::min()), -step_down(L::min()),  // largest denormal
         L::min(),       -L::min(),       L::max(),        -L::max(),
-        T(1),           T(-1),           next_up(T(1)),   next_down(T(1)),
-        -next_up(T(1)), -next_down(T(1)), L::epsilon(),   -L::epsilon(),
-        T(0.5),         T(2),            next_down(L::max()), std::ldexp(T(1), L::max_exponent / 2),
+        T(1),           T(-1),           step_up(T(1)),   step_down(T(1)),
+        -step_up(T(1)), -step_down(T(1)), L::epsilon(),   -L::epsilon(),
+        T(0.5),         T(2),            step_down(L::max()), std::ldexp(T(1), L::max_exponent / 2),
     };
     return values;
 }
@@ -422,7 +422,7 @@ template <class T> void break_ray(Ray<T>& r, RayFault f, Rng& rng) {
         case RayFault::t_min_above_t_max: {
             const T a = chance(rng, 1, 2) ? uniform<T>(rng, -8, 8) : wide_value<T>(rng);
             r.t_max = a;
-            r.t_min = next_up(a);
+            r.t_min = step_up(a);
             if (chance(rng, 1, 2)) r.t_min = std::max(r.t_min, a + T(1));
             break;
         }

@@ -236,9 +236,9 @@ template <class T> Case<T, Aabb<T>> aabb_invalid(Rng& rng) {
                                 T& x = chance(rng, 1, 2) ? c.shape.lo[i] : c.shape.hi[i];
                                 x = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
                             } else {  // lo > hi, by one ulp or more
-                                c.shape.lo[i] = chance(rng, 1, 2) ? next_up(c.shape.hi[i])
+                                c.shape.lo[i] = chance(rng, 1, 2) ? step_up(c.shape.hi[i])
                                                                   : c.shape.hi[i] + T(uniform_int(rng, 1, 8));
-                                if (!(c.shape.lo[i] > c.shape.hi[i])) c.shape.lo[i] = next_up(c.shape.hi[i]);
+                                if (!(c.shape.lo[i] > c.shape.hi[i])) c.shape.lo[i] = step_up(c.shape.hi[i]);
                             }
                         });
 }
