@@ -21,8 +21,8 @@ using oracle::Breach;
 using oracle::ContractCheck;
 using oracle::ModeId;
 
-template <class T> T up(T x) { return std::nextafter(x, std::numeric_limits<T>::infinity()); }
-template <class T> T down(T x) { return std::nextafter(x, -std::numeric_limits<T>::infinity()); }
+using detail::step_down;
+using detail::step_up;
 
 // Ray (-1, 1/2, 1/2) + t·(3, 0, 0) against [0, 1]³: exactly [1/3, 2/3], entering through
 // face 0 (the -x side).
@@ -59,13 +59,13 @@ TEST(ContractCheck, TheExactAnswerPassesEveryMode) {
 
 TEST(ContractCheck, CertifiedRejectsATNotFaithful) {
     // Two ulps below 1/3: not one of the two doubles enclosing it.
-    const auto c = check(kBox, hit(down(third_lo()), two_thirds_hi(), 0), certified);
+    const auto c = check(kBox, hit(step_down(third_lo()), two_thirds_hi(), 0), certified);
     EXPECT_TRUE(c.has(Breach::not_exact));
     EXPECT_TRUE(c.promise_broken());
     EXPECT_EQ(c.first(), Breach::not_exact);
     EXPECT_EQ(c.judgement.enter_ulps, 1u);
     // t_exit one step beyond its upper rounding.
-    EXPECT_TRUE(check(kBox, hit(third_lo(), up(two_thirds_hi()), 0), certified).has(Breach::not_exact));
+    EXPECT_TRUE(check(kBox, hit(third_lo(), step_up(two_thirds_hi()), 0), certified).has(Breach::not_exact));
 }
 
 TEST(ContractCheck, CertifiedRejectsAWrongFaceConservativeAndFastDoNot) {
@@ -186,7 +186,7 @@ TEST(Tally, CountsOutcomesAndTErrors) {
     oracle::Tally t;
     const auto e = oracle::exact(kRay, kBox);
     const auto ok = oracle::judge(hit(third_lo(), two_thirds_hi(), 0), e);
-    const auto off = oracle::judge(hit(down(third_lo()), two_thirds_hi(), 1), e);
+    const auto off = oracle::judge(hit(step_down(third_lo()), two_thirds_hi(), 1), e);
     const auto miss = oracle::judge(answer(Verdict::miss), e);
     for (const auto& j : {ok, off, miss}) {
         ++t.cases;

@@ -18,8 +18,8 @@ using oracle::ExactValue;
 using oracle::Order;
 using oracle::Outcome;
 
-template <class T> T up(T x) { return std::nextafter(x, std::numeric_limits<T>::infinity()); }
-template <class T> T down(T x) { return std::nextafter(x, -std::numeric_limits<T>::infinity()); }
+using detail::step_down;
+using detail::step_up;
 
 // Ray (-1, 1/2, 1/2) + t·(3, 0, 0) against [0, 1]³: exactly [1/3, 2/3], face 0.
 template <class T> oracle::Exact<T> third() {
@@ -63,7 +63,7 @@ TEST(ExactValue, RepresentableValuesAreTheirOwnBracket) {
     EXPECT_TRUE(br.representable());
     EXPECT_EQ(br.lo, 0.5);
     EXPECT_EQ(e.enter_vs(0.5), Order::equal);
-    EXPECT_EQ(e.enter_vs(up(0.5)), Order::above);
+    EXPECT_EQ(e.enter_vs(step_up(0.5)), Order::above);
     EXPECT_EQ(e.enter_vs(std::numeric_limits<double>::quiet_NaN()), Order::unordered);
 }
 
@@ -90,7 +90,7 @@ TEST(ExactValue, BracketAboveTheLargestFiniteValueReachesInfinity) {
     EXPECT_EQ(br.hi, L::infinity());
     EXPECT_EQ(oracle::ulps_from(L::infinity(), e.t_enter), 0u);
     EXPECT_EQ(oracle::ulps_from(L::max(), e.t_enter), 0u);
-    EXPECT_EQ(oracle::ulps_from(down(L::max()), e.t_enter), 1u);
+    EXPECT_EQ(oracle::ulps_from(step_down(L::max()), e.t_enter), 1u);
 }
 
 TEST(ExactValue, BracketBelowTheSmallestDenormalReachesZero) {
@@ -133,26 +133,26 @@ TEST(ExactValue, IrrationalSphereRootHasTheIntegerCheckedBracket) {
     EXPECT_EQ(e.t_enter.str(), "2 - sqrt(3/4)");
     EXPECT_EQ(e.t_exit.str(), "2 + sqrt(3/4)");
     const auto br = e.enter_bracket();
-    EXPECT_EQ(br.hi, up(br.lo));
+    EXPECT_EQ(br.hi, step_up(br.lo));
     EXPECT_TRUE(below_root_double(br.lo));
     EXPECT_FALSE(below_root_double(br.hi));
     EXPECT_NEAR(br.lo, 2 - std::sqrt(0.75), 1e-15);
 
     const auto ef = oracle::exact(Ray<float>{{-2, 0.5f, 0}, {1, 0, 0}}, Sphere<float>{{0, 0, 0}, 1});
     const auto bf = ef.enter_bracket();
-    EXPECT_EQ(bf.hi, up(bf.lo));
+    EXPECT_EQ(bf.hi, step_up(bf.lo));
     EXPECT_TRUE(below_root_float(bf.lo));
     EXPECT_FALSE(below_root_float(bf.hi));
     EXPECT_EQ(oracle::ulps_from(bf.lo, ef.t_enter), 0u);
     EXPECT_EQ(oracle::ulps_from(bf.hi, ef.t_enter), 0u);
-    EXPECT_EQ(oracle::ulps_from(up(bf.hi), ef.t_enter), 1u);
-    EXPECT_EQ(oracle::ulps_from(down(down(bf.lo)), ef.t_enter), 2u);
+    EXPECT_EQ(oracle::ulps_from(step_up(bf.hi), ef.t_enter), 1u);
+    EXPECT_EQ(oracle::ulps_from(step_down(step_down(bf.lo)), ef.t_enter), 2u);
 }
 
 TEST(UlpDistance, CountsRepresentableSteps) {
     using L = std::numeric_limits<double>;
-    EXPECT_EQ(oracle::ulp_distance(1.0, up(1.0)), 1u);
-    EXPECT_EQ(oracle::ulp_distance(up(1.0), 1.0), 1u);
+    EXPECT_EQ(oracle::ulp_distance(1.0, step_up(1.0)), 1u);
+    EXPECT_EQ(oracle::ulp_distance(step_up(1.0), 1.0), 1u);
     EXPECT_EQ(oracle::ulp_distance(-0.0, 0.0), 0u);
     EXPECT_EQ(oracle::ulp_distance(-L::denorm_min(), L::denorm_min()), 2u);
     EXPECT_EQ(oracle::ulp_distance(L::max(), L::infinity()), 1u);
@@ -176,7 +176,7 @@ TEST(Judge, ClassifiesEveryOutcome) {
     EXPECT_TRUE(j.exact_match());
     EXPECT_FALSE(j.encloses);
 
-    j = oracle::judge(hit(down(be.lo), up(bx.hi), 0), e);
+    j = oracle::judge(hit(step_down(be.lo), step_up(bx.hi), 0), e);
     EXPECT_EQ(j.outcome, Outcome::agree);
     EXPECT_EQ(j.enter_ulps, 1u);
     EXPECT_EQ(j.exit_ulps, 1u);
