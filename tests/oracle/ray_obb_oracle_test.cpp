@@ -14,13 +14,8 @@ using namespace rayproof::oracle_test;
 template <class T> class ObbOracle : public ::testing::Test {};
 TYPED_TEST_SUITE(ObbOracle, Scalars, ScalarNames);
 
-template <class T> Mat3<T> cols(Vec3<T> a, Vec3<T> b, Vec3<T> c) {
-    Mat3<T> m;
-    m.col(0) = a;
-    m.col(1) = b;
-    m.col(2) = c;
-    return m;
-}
+// The matrix with columns a, b, c (Eigen's comma initializer puts vectors side by side).
+template <class T> Mat3<T> cols(Vec3<T> a, Vec3<T> b, Vec3<T> c) { return (Mat3<T>() << a, b, c).finished(); }
 
 TYPED_TEST(ObbOracle, NonUnitAndNegatedAxes) {
     using T = TypeParam;

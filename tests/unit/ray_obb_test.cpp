@@ -14,13 +14,8 @@ using Scalars = ::testing::Types<float, double>;
 TYPED_TEST_SUITE(RayObb, Scalars);
 
 namespace {
-template <class T> Mat3<T> cols(Vec3<T> a, Vec3<T> b, Vec3<T> c) {
-    Mat3<T> m;
-    m.col(0) = a;
-    m.col(1) = b;
-    m.col(2) = c;
-    return m;
-}
+// The matrix with columns a, b, c (Eigen's comma initializer puts vectors side by side).
+template <class T> Mat3<T> cols(Vec3<T> a, Vec3<T> b, Vec3<T> c) { return (Mat3<T>() << a, b, c).finished(); }
 template <class T> Obb<T> rotated(Vec3<T> center) {  // half-widths 5 along the unit axes (3,4,0)/5, (-4,3,0)/5, z
     return {center, cols<T>(v<T>(3, 4, 0), v<T>(-4, 3, 0), v<T>(0, 0, 5)), v<T>(25, 25, 25)};
 }
