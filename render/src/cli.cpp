@@ -178,51 +178,43 @@ int run_render(const Args& a) {
     opt.progress = !a.quiet && isatty(STDERR_FILENO);
     const int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
 
-    auto render_mode = [&](Mode m) -> std::optional<RenderResult> {
+    auto render_mode = [&](Mode m) {
         Scene s = *scene;
         s.settings.mode = m;
-        RenderResult r = render(s, opt);
-        if (!r) {
-            std::fprintf(stderr, "rayproof render: %s\n", r.error.c_str());
-            return std::nullopt;
-        }
-        return r;
+        return render(s, opt);
     };
 
     if (a.diff_a) {
         const auto ra = render_mode(*a.diff_a);
-        if (!ra) return 1;
         const auto rb = render_mode(*a.diff_b);
-        if (!rb) return 1;
-        const ImageComparison c = compare(ra->image, rb->image, a.diff_threshold);
-        if (const std::string e = write_image(diff_image(ra->image, rb->image, a.diff_threshold), a.output);
+        const ImageComparison c = compare(ra.image, rb.image, a.diff_threshold);
+        if (const std::string e = write_image(diff_image(ra.image, rb.image, a.diff_threshold), a.output);
             !e.empty()) {
             std::fprintf(stderr, "rayproof render: %s\n", e.c_str());
             return 1;
         }
-        const long long total = (long long)ra->image.width * ra->image.height;
+        const long long total = (long long)ra.image.width * ra.image.height;
         std::printf("%s vs %s: %lld of %lld pixels differ%s (%.3f%%), largest channel difference %d; wrote %s\n",
                     mode_name(*a.diff_a), mode_name(*a.diff_b), c.differing_pixels, total,
                     a.diff_threshold ? (" by more than " + std::to_string(a.diff_threshold)).c_str() : "",
                     100.0 * double(c.differing_pixels) / double(total), c.max_channel_difference, a.output.c_str());
         if (a.stats) {
-            print_stats(ra->stats);
-            print_stats(rb->stats);
+            print_stats(ra.stats);
+            print_stats(rb.stats);
         }
         return 0;
     }
 
     const auto r = render_mode(scene->settings.mode);
-    if (!r) return 1;
-    if (const std::string e = write_image(r->image, a.output); !e.empty()) {
+    if (const std::string e = write_image(r.image, a.output); !e.empty()) {
         std::fprintf(stderr, "rayproof render: %s\n", e.c_str());
         return 1;
     }
     if (!a.quiet)
-        std::printf("wrote %s (%dx%d, mode %s, depth %d, %d thread%s, %.2f s)\n", a.output.c_str(), r->image.width,
-                    r->image.height, mode_name(scene->settings.mode), scene->settings.depth, threads,
-                    threads == 1 ? "" : "s", r->seconds);
-    if (a.stats) print_stats(r->stats);
+        std::printf("wrote %s (%dx%d, mode %s, depth %d, %d thread%s, %.2f s)\n", a.output.c_str(), r.image.width,
+                    r.image.height, mode_name(scene->settings.mode), scene->settings.depth, threads,
+                    threads == 1 ? "" : "s", r.seconds);
+    if (a.stats) print_stats(r.stats);
     return 0;
 }
 

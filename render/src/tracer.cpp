@@ -481,8 +481,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options) {
     return with_mode(scene.settings.mode, [&](auto tag) { return render_in<decltype(tag)>(scene, options); });
 }
 
-std::optional<Color> radiance(const Scene& scene, double px, double py, const TraceOptions& options, Stats* stats) {
-    return with_mode(scene.settings.mode, [&](auto tag) -> std::optional<Color> {
+Color radiance(const Scene& scene, double px, double py, const TraceOptions& options, Stats* stats) {
+    return with_mode(scene.settings.mode, [&](auto tag) -> Color {
         Stats local;
         Stats& st = stats ? *stats : local;
         Tracer<decltype(tag)> tr(scene, options, st);

@@ -35,10 +35,10 @@ Acne count(const Scene& s, const TraceOptions& opt) {
         for (int x = 0; x < W; ++x) {
             Stats st;
             const auto c = radiance(s, x + 0.5, y + 0.5, opt, &st);
-            if (!c || st.shadow == 0) continue;
+            if (st.shadow == 0) continue;
             ++a.surface;
             if (st.shadowed) ++a.shadowed;
-            lum[y * W + x] = c->mean();
+            lum[y * W + x] = c.mean();
         }
     for (int y = 0; y < H; ++y)
         for (int x = 0; x < W; ++x) {

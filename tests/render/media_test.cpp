@@ -70,11 +70,10 @@ TEST_P(Media, TiltedSlabDisplacesButKeepsDirection) {
         add(s, Sphere<double>{{shift, 0, -5}, 0.05}, matte(Color::Zero(), Color(1, 0, 0)));
         s.ambient_light = Color(1, 1, 1);
         const auto got = radiance(s, 2.5, 2.5);
-        ASSERT_TRUE(got);
         if (ior == 1.5)
-            EXPECT_TRUE(same_color(*got, Color(1, 0, 0)));  // the target, seen through two refractions
+            EXPECT_TRUE(same_color(got, Color(1, 0, 0)));  // the target, seen through two refractions
         else
-            EXPECT_TRUE(same_color(*got, Color(0, 0, 1)));  // undeviated: the background
+            EXPECT_TRUE(same_color(got, Color(0, 0, 1)));  // undeviated: the background
     }
 }
 
@@ -91,9 +90,8 @@ TEST_P(Media, EyeInsideGlassBoxLeavesThroughTheExitFace) {
     add(s, Aabb<double>{{-1, -1, -2}, {1, 1, 1}}, glass);
     Stats st;
     const auto got = radiance(s, 2.5, 2.5, {}, &st);
-    ASSERT_TRUE(got);
     const Color want = 0.25 * Color(0.2, 0.2, 0.2) + 0.75 * Color(0.5, 0.25, 1);
-    for (int i = 0; i < 3; ++i) EXPECT_NEAR((*got)[i], want[i], 1e-15);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(got[i], want[i], 1e-15);
     EXPECT_EQ(st.refraction, 1u);
 }
 
@@ -115,12 +113,11 @@ TEST_P(Media, TotalInternalReflectionTrapsTheRay) {
         add(s, Aabb<double>{{-1, -1, -1}, {1, 1, 1}}, glass);
         Stats st;
         const auto got = radiance(s, 2.5, 2.5, {}, &st);
-        ASSERT_TRUE(got);
         if (ior == 1.5) {
-            EXPECT_TRUE(same_color(*got, Color(0, 0, 0)));
+            EXPECT_TRUE(same_color(got, Color(0, 0, 0)));
             EXPECT_EQ(st.refraction, 11u);  // every level down to the maximum depth
         } else {
-            EXPECT_TRUE(same_color(*got, Color(1, 1, 1)));
+            EXPECT_TRUE(same_color(got, Color(1, 1, 1)));
             EXPECT_EQ(st.refraction, 1u);
         }
     }
@@ -137,10 +134,9 @@ TEST_P(Media, BallThroughTheCentreByHand) {
     glass.ior = 1.33;
     add(s, Sphere<double>{{0, 0, 0}, 1}, glass);
     const auto got = radiance(s, 2.5, 2.5);
-    ASSERT_TRUE(got);
     const Color l(0.4, 0.2, 0), b(0, 0.5, 1);
     const Color want = 0.4 * l + 0.6 * (0.4 * l + 0.6 * b);
-    for (int i = 0; i < 3; ++i) EXPECT_NEAR((*got)[i], want[i], 1e-15);
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(got[i], want[i], 1e-15);
 }
 
 // The counters show that features the scene does not use cost nothing.
@@ -152,7 +148,6 @@ TEST_P(Media, NoWorkForUnusedFeatures) {
     RenderOptions opt;
     opt.threads = 2;
     const RenderResult full = render(s, opt);
-    ASSERT_TRUE(full) << full.error;
     EXPECT_GT(full.stats.shadow, 0u);
     EXPECT_GT(full.stats.reflection, 0u);
     EXPECT_GT(full.stats.refraction, 0u);

@@ -217,7 +217,9 @@ TEST(SceneFiles, DocumentedExampleParses) {
     EXPECT_EQ(s.objects.size(), 2u);
     s.settings.width = 8;
     s.settings.height = 6;
-    EXPECT_TRUE(render(s));
+    const Image img = render(s).image;
+    EXPECT_EQ(img.width, 8);
+    EXPECT_EQ(img.height, 6);
 }
 
 TEST(SceneFiles, MinimalSceneGetsDefaults) {

@@ -68,8 +68,6 @@ struct RenderResult {
     Image image;
     Stats stats;
     double seconds = 0;
-    std::string error;  // non-empty when nothing was rendered
-    explicit operator bool() const { return error.empty(); }
 };
 
 // Renders scene.settings.width × height pixels in scene.settings.mode.
@@ -80,9 +78,8 @@ RenderResult render(const Scene& scene, const RenderOptions& options = {});
 Ray<double> camera_ray(const Camera& cam, int width, int height, double px, double py);
 
 // The colour (linear, unclamped) seen along the primary ray through (px, py), traced in
-// scene.settings.mode (every mode answers: the result always holds a colour).
-std::optional<Color> radiance(const Scene& scene, double px, double py, const TraceOptions& options = {},
-                              Stats* stats = nullptr);
+// scene.settings.mode.
+Color radiance(const Scene& scene, double px, double py, const TraceOptions& options = {}, Stats* stats = nullptr);
 
 // --- building blocks, exposed for the tests ------------------------------------------
 
