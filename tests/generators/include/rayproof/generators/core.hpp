@@ -20,6 +20,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <limits>
 #include <ostream>
@@ -298,6 +299,25 @@ template <class T> void special_t_range(Ray<T>& r, Rng& rng, T s) {
         case 4: r.t_min = std::min(T(0), s); r.t_max = s < 0 ? T(0) : s; break;
         default: r.t_min = 0; r.t_max = kInf<T>; break;
     }
+}
+// The range of an on_boundary case, whose boundary point is at the origin (at_origin)
+// or at the exact parameter s: `origin_range(r, rng)` in the first case, with a t_max
+// below t_min made +inf, special_t_range in the second.
+template <class T, std::invocable<Ray<T>&, Rng&> OriginRange>
+void on_boundary_t_range(Ray<T>& r, Rng& rng, bool at_origin, T s, OriginRange origin_range) {
+    if (at_origin) {
+        origin_range(r, rng);
+        if (r.t_max < r.t_min) r.t_max = kInf<T>;
+    } else {
+        special_t_range(r, rng, s);
+    }
+}
+// The same with the usual range at the origin: random_t_range, t_min made 0 half the time.
+template <class T> void on_boundary_t_range(Ray<T>& r, Rng& rng, bool at_origin, T s, double scale) {
+    on_boundary_t_range(r, rng, at_origin, s, [scale](Ray<T>& q, Rng& g) {
+        random_t_range(q, g, scale);
+        if (chance(g, 1, 2)) q.t_min = 0;
+    });
 }
 
 // ---------------------------------------------------------------------------------

@@ -165,12 +165,7 @@ template <class T> Case<T, Aabb<T>> aabb_on_boundary(Rng& rng) {
         const std::int64_t s = at_origin ? 0 : uniform_int(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
         if (!detail::aabb_from_integers<T>(b, sub(p, mul(s, d)), dv, random_translation<T>(rng), c)) return false;
-        if (at_origin)
-            random_t_range(c.ray, rng, 16);
-        else
-            special_t_range(c.ray, rng, T(s));
-        if (at_origin && chance(rng, 1, 2)) c.ray.t_min = 0;
-        if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
+        on_boundary_t_range(c.ray, rng, at_origin, T(s), 16);
         return true;
     });
 }

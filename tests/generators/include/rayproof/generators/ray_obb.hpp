@@ -196,12 +196,7 @@ template <class T> Case<T, Obb<T>> obb_on_boundary(Rng& rng) {
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
         if (!detail::obb_from_integers<T>(a, center, h, sub(add(center, v), mul(s, d)), dv, random_translation<T>(rng), c))
             return false;
-        if (at_origin)
-            random_t_range(c.ray, rng, 8);
-        else
-            special_t_range(c.ray, rng, T(s));
-        if (at_origin && chance(rng, 1, 2)) c.ray.t_min = 0;
-        if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
+        on_boundary_t_range(c.ray, rng, at_origin, T(s), 8);
         return true;
     });
 }

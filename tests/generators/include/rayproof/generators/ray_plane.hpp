@@ -123,14 +123,11 @@ template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
         const std::int64_t s = at_origin ? 0 : uniform_int(rng, -8, 8);
         if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), 0, c))
             return false;
-        if (at_origin) {
-            const auto k = below(rng, 3);
-            c.ray.t_min = k == 0 ? T(0) : k == 1 ? std::numeric_limits<T>::denorm_min() : -T(0);
-            c.ray.t_max = chance(rng, 1, 2) ? kInf<T> : T(uniform_int(rng, 0, 4));
-            if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
-        } else {
-            special_t_range(c.ray, rng, T(s));
-        }
+        on_boundary_t_range(c.ray, rng, at_origin, T(s), [](Ray<T>& r, Rng& g) {
+            const auto k = below(g, 3);
+            r.t_min = k == 0 ? T(0) : k == 1 ? std::numeric_limits<T>::denorm_min() : -T(0);
+            r.t_max = chance(g, 1, 2) ? kInf<T> : T(uniform_int(g, 0, 4));
+        });
         return true;
     });
 }

@@ -175,13 +175,7 @@ template <class T> Case<T, Sphere<T>> sphere_on_boundary(Rng& rng) {
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
         if (!detail::sphere_from_integers<T>(center, k * q.n, sub(surface, mul(s, d)), dv, random_translation<T>(rng), c))
             return false;
-        if (at_origin) {
-            random_t_range(c.ray, rng, 8);
-            if (chance(rng, 1, 2)) c.ray.t_min = 0;
-            if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
-        } else {
-            special_t_range(c.ray, rng, T(s));
-        }
+        on_boundary_t_range(c.ray, rng, at_origin, T(s), 8);
         return true;
     });
 }
