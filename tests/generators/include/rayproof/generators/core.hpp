@@ -388,14 +388,20 @@ template <class T, class Shape> void random_exact_scaling(Case<T, Shape>& c, Rng
 template <class T> Vec3<T> permuted(const Vec3<T>& v, const std::array<int, 3>& perm) {
     return Vec3<T>(v[perm[0]], v[perm[1]], v[perm[2]]);
 }
+// ... and to the origin and direction of a ray (its range stays).
+template <class T> Ray<T> permuted(const Ray<T>& r, const std::array<int, 3>& perm) {
+    Ray<T> o = r;
+    o.origin = permuted(r.origin, perm);
+    o.direction = permuted(r.direction, perm);
+    return o;
+}
 // The same case with the box axes renamed: Aabb, Sphere, Plane permute the coordinates of
 // every vector; Obb permutes the columns of `axes` and the half extents (its coordinates
 // stay). The exact verdict and interval are unchanged; an entry face on old axis j is
 // on new axis i with perm[i] == j (up to the lowest-index tie rule).
 template <class T> Case<T, Aabb<T>> permute_axes(const Case<T, Aabb<T>>& c, const std::array<int, 3>& p) {
     Case<T, Aabb<T>> o = c;
-    o.ray.origin = permuted(c.ray.origin, p);
-    o.ray.direction = permuted(c.ray.direction, p);
+    o.ray = permuted(c.ray, p);
     o.shape.lo = permuted(c.shape.lo, p);
     o.shape.hi = permuted(c.shape.hi, p);
     return o;
@@ -408,15 +414,13 @@ template <class T> Case<T, Obb<T>> permute_axes(const Case<T, Obb<T>>& c, const 
 }
 template <class T> Case<T, Plane<T>> permute_axes(const Case<T, Plane<T>>& c, const std::array<int, 3>& p) {
     Case<T, Plane<T>> o = c;
-    o.ray.origin = permuted(c.ray.origin, p);
-    o.ray.direction = permuted(c.ray.direction, p);
+    o.ray = permuted(c.ray, p);
     o.shape.normal = permuted(c.shape.normal, p);
     return o;
 }
 template <class T> Case<T, Sphere<T>> permute_axes(const Case<T, Sphere<T>>& c, const std::array<int, 3>& p) {
     Case<T, Sphere<T>> o = c;
-    o.ray.origin = permuted(c.ray.origin, p);
-    o.ray.direction = permuted(c.ray.direction, p);
+    o.ray = permuted(c.ray, p);
     o.shape.center = permuted(c.shape.center, p);
     return o;
 }
