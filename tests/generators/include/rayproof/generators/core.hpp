@@ -265,6 +265,11 @@ template <class T, class F> Vec3<T> nonzero_vec(Rng& rng, F draw) {
     }
 }
 
+// A nonzero T vector of wide values.
+template <class T> Vec3<T> nonzero_wide_vec(Rng& rng) {
+    return nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+}
+
 // ---------------------------------------------------------------------------------
 // Ray parameter ranges.
 
@@ -285,6 +290,17 @@ template <class T> void random_t_range(Ray<T>& r, Rng& rng, double scale = 16) {
         if (b < a) std::swap(a, b);
         r.t_min = a;
         r.t_max = b;
+    }
+}
+// The end of a log-uniform ray: a nonzero direction of wide values, then, one time in
+// four, a sorted range of wide values whose ends are each made infinite one time in four.
+template <class T> void wide_direction_and_range(Ray<T>& r, Rng& rng) {
+    r.direction = nonzero_wide_vec<T>(rng);
+    if (chance(rng, 1, 4)) {
+        T a = wide_value<T>(rng), b = wide_value<T>(rng);
+        if (b < a) std::swap(a, b);
+        r.t_min = chance(rng, 1, 4) ? -kInf<T> : a;
+        r.t_max = chance(rng, 1, 4) ? kInf<T> : b;
     }
 }
 // A range for a constructed case where the special point is at the exact parameter s:

@@ -79,13 +79,7 @@ template <class T> Case<T, Aabb<T>> aabb_log_uniform(Rng& rng) {
         c.shape.hi[i] = b;
         c.ray.origin[i] = wide_value<T>(rng);
     }
-    c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
-    if (chance(rng, 1, 4)) {
-        T a = wide_value<T>(rng), b = wide_value<T>(rng);
-        if (b < a) std::swap(a, b);
-        c.ray.t_min = chance(rng, 1, 4) ? -kInf<T> : a;
-        c.ray.t_max = chance(rng, 1, 4) ? kInf<T> : b;
-    }
+    wide_direction_and_range(c.ray, rng);
     return c;
 }
 
@@ -195,7 +189,7 @@ template <class T> Case<T, Aabb<T>> aabb_extreme(Rng& rng) {
             c.shape.hi[i] = magnitude<T>(rng, L::max_exponent - 6, L::max_exponent - 1, false);
             c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : T(random_sign(rng)) * L::max();
         }
-        c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+        c.ray.direction = nonzero_wide_vec<T>(rng);
     } else if (kind == 2) {  // denormal sized
         for (int i = 0; i < 3; ++i) {
             T a = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent + 1);
@@ -205,7 +199,7 @@ template <class T> Case<T, Aabb<T>> aabb_extreme(Rng& rng) {
             c.shape.hi[i] = b;
             c.ray.origin[i] = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent + 4);
         }
-        c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+        c.ray.direction = nonzero_wide_vec<T>(rng);
     } else {  // long and thin, the ray nearly along the long axis
         const int a = int(below(rng, 3));
         for (int i = 0; i < 3; ++i) {

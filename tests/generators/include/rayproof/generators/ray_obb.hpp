@@ -76,7 +76,7 @@ template <class T> Case<T, Obb<T>> obb_log_uniform(Rng& rng) {
         c.shape.half_extent[i] = std::abs(wide_value<T>(rng));
         c.ray.origin[i] = wide_value<T>(rng);
     }
-    c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+    c.ray.direction = nonzero_wide_vec<T>(rng);
     if (chance(rng, 1, 4)) c.ray.t_min = -kInf<T>;
     return c;
 }
@@ -221,7 +221,7 @@ template <class T> Case<T, Obb<T>> obb_extreme(Rng& rng) {
             c.shape.half_extent[i] = magnitude<T>(rng, L::max_exponent - 6, L::max_exponent - 1, false);
             c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : T(random_sign(rng)) * L::max();
         }
-        c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+        c.ray.direction = nonzero_wide_vec<T>(rng);
     } else if (kind == 2) {  // nearly dependent axes: a2 = a0 + a1 with one entry nudged
         const IMat3 a = integer_axes(rng);
         c.shape.axes = to_mat<T>(a);

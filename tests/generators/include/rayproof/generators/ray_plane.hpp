@@ -36,16 +36,10 @@ template <class T> Case<T, Plane<T>> plane_general(Rng& rng) {
 // Every number log-uniform over the whole exponent range of T.
 template <class T> Case<T, Plane<T>> plane_log_uniform(Rng& rng) {
     Case<T, Plane<T>> c{{}, {}, "log_uniform"};
-    c.shape.normal = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+    c.shape.normal = nonzero_wide_vec<T>(rng);
     c.shape.offset = wide_value<T>(rng);
     for (int i = 0; i < 3; ++i) c.ray.origin[i] = wide_value<T>(rng);
-    c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
-    if (chance(rng, 1, 4)) {
-        T a = wide_value<T>(rng), b = wide_value<T>(rng);
-        if (b < a) std::swap(a, b);
-        c.ray.t_min = chance(rng, 1, 4) ? -kInf<T> : a;
-        c.ray.t_max = chance(rng, 1, 4) ? kInf<T> : b;
-    }
+    wide_direction_and_range(c.ray, rng);
     return c;
 }
 

@@ -49,7 +49,7 @@ template <class T> Case<T, Sphere<T>> sphere_log_uniform(Rng& rng) {
         c.ray.origin[i] = wide_value<T>(rng);
     }
     c.shape.radius = std::abs(wide_value<T>(rng));
-    c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+    c.ray.direction = nonzero_wide_vec<T>(rng);
     if (chance(rng, 1, 4)) c.ray.t_min = -kInf<T>;
     return c;
 }
@@ -204,7 +204,7 @@ template <class T> Case<T, Sphere<T>> sphere_extreme(Rng& rng) {
             c.shape.center[i] = wide_value<T>(rng);
             c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : c.shape.radius * T(uniform01(rng));
         }
-        c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+        c.ray.direction = nonzero_wide_vec<T>(rng);
     } else {  // denormal sized
         for (int i = 0; i < 3; ++i) {
             c.shape.center[i] = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent);
@@ -212,7 +212,7 @@ template <class T> Case<T, Sphere<T>> sphere_extreme(Rng& rng) {
         }
         c.shape.radius = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent, false);
         c.ray.direction = chance(rng, 1, 2) ? Vec3<T>(c.shape.center - c.ray.origin)
-                                            : nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+                                            : nonzero_wide_vec<T>(rng);
     }
     if (c.ray.direction.isZero()) c.ray.direction = Vec3<T>(1, 0, 0);
     if (chance(rng, 1, 4)) c.ray.t_min = -kInf<T>;
