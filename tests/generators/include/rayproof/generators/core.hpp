@@ -101,6 +101,8 @@ template <class T> T nudge(T x, int steps) {
     for (; steps < 0; ++steps) x = step_down(x);
     return x;
 }
+// x moved by one ulp either way (the sign drawn).
+template <class T> void nudge_ulp(T& x, Rng& rng) { x = nudge(x, random_sign(rng)); }
 // The two one-ulp neighbours of x.
 template <class T> std::array<T, 2> one_ulp_neighbours(T x) { return {step_down(x), step_up(x)}; }
 
@@ -499,6 +501,23 @@ Case<T, Shape> near_grazing_from(Case<T, Shape> c, Rng& rng, Nudge nudge_one) {
     if (c.ray.direction.isZero()) c.ray.direction[i] = std::numeric_limits<T>::denorm_min();
     return c;
 }
+
+// The near_grazing case of most shapes: k drawn in [0, 6); `first(c, i, rng)` when
+// k == 0, `second(c, i, rng)` when k == 1, else direction component i moved by one ulp.
+template <class T, class Shape, class First, class Second>
+Case<T, Shape> near_grazing_from(Case<T, Shape> c, Rng& rng, First first, Second second) {
+    return near_grazing_from(c, rng, [&](Case<T, Shape>& x, int i) {
+        const auto k = below(rng, 6);
+        if (k == 0)
+            first(x, i, rng);
+        else if (k == 1)
+            second(x, i, rng);
+        else
+            nudge_ulp(x.ray.direction[i], rng);
+    });
+}
+// Origin coordinate i moved by one ulp (a `first` or `second` of near_grazing_from).
+inline constexpr auto nudge_origin = [](auto& c, int i, Rng& rng) { nudge_ulp(c.ray.origin[i], rng); };
 
 // Whether an invalid generator draws an axis (after the fault, before breaking anything).
 enum class FaultAxis { none, drawn };

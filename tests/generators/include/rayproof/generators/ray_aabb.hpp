@@ -106,9 +106,9 @@ template <class T> Case<T, Aabb<T>> aabb_grazing(Rng& rng) {
 template <class T> Case<T, Aabb<T>> aabb_near_grazing(Rng& rng) {
     return near_grazing_from(aabb_grazing<T>(rng), rng, [&](Case<T, Aabb<T>>& c, int i) {
         if (chance(rng, 1, 4))
-            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
+            nudge_ulp(c.ray.origin[i], rng);
         else
-            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
+            nudge_ulp(c.ray.direction[i], rng);
     });
 }
 

@@ -144,15 +144,9 @@ template <class T> Case<T, Obb<T>> obb_grazing(Rng& rng) {
 // The grazing rays with one direction component (or one origin coordinate, or one axis
 // entry: the box the floats describe moves) nudged by one ulp either way.
 template <class T> Case<T, Obb<T>> obb_near_grazing(Rng& rng) {
-    return near_grazing_from(obb_grazing<T>(rng), rng, [&](Case<T, Obb<T>>& c, int i) {
-        const auto k = below(rng, 6);
-        if (k == 0)
-            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
-        else if (k == 1) {
-            T& x = c.shape.axes(i, int(below(rng, 3)));
-            x = nudge(x, random_sign(rng));
-        } else
-            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
+    return near_grazing_from(obb_grazing<T>(rng), rng, nudge_origin, [](Case<T, Obb<T>>& c, int i, Rng& g) {
+        T& x = c.shape.axes(i, int(below(g, 3)));
+        nudge_ulp(x, g);
     });
 }
 

@@ -65,15 +65,9 @@ template <class T> Case<T, Plane<T>> plane_grazing(Rng& rng) {
 // at a huge |t|, ahead or behind), or the offset or one origin coordinate moved by one
 // ulp (parallel, just off the plane).
 template <class T> Case<T, Plane<T>> plane_near_grazing(Rng& rng) {
-    return near_grazing_from(plane_grazing<T>(rng), rng, [&](Case<T, Plane<T>>& c, int i) {
-        const auto k = below(rng, 6);
-        if (k == 0)
-            c.shape.offset = nudge(c.shape.offset, random_sign(rng));
-        else if (k == 1)
-            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
-        else
-            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
-    });
+    return near_grazing_from(
+        plane_grazing<T>(rng), rng, [](Case<T, Plane<T>>& c, int, Rng& g) { nudge_ulp(c.shape.offset, g); },
+        nudge_origin);
 }
 
 // Exactly parallel rays (n·d == 0) off the plane by an integer distance, and axis-aligned
@@ -143,7 +137,7 @@ template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
         if (c.ray.direction.isZero()) c.ray.direction = Vec3<T>(1, 0, 0);
         if (chance(rng, 1, 2)) {
             const int j = int(below(rng, 3));
-            c.ray.direction[j] = nudge(c.ray.direction[j], random_sign(rng));
+            nudge_ulp(c.ray.direction[j], rng);
         }
     } else if (kind == 1) {  // far plane
         c.shape.offset = magnitude<T>(rng, 20, L::max_exponent - 2);

@@ -84,16 +84,13 @@ template <class T> Case<T, Sphere<T>> sphere_grazing(Rng& rng) {
 // The tangent rays with one direction component moved by one ulp either way, or the
 // radius or one origin coordinate moved by one ulp: a hair inside or outside tangency.
 template <class T> Case<T, Sphere<T>> sphere_near_grazing(Rng& rng) {
-    return near_grazing_from(sphere_grazing<T>(rng), rng, [&](Case<T, Sphere<T>>& c, int i) {
-        const auto k = below(rng, 6);
-        if (k == 0)
-            c.shape.radius =
-                c.shape.radius == 0 ? std::numeric_limits<T>::denorm_min() : nudge(c.shape.radius, random_sign(rng));
-        else if (k == 1)
-            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
+    const auto nudge_radius = [](Case<T, Sphere<T>>& c, int, Rng& g) {
+        if (c.shape.radius == 0)
+            c.shape.radius = std::numeric_limits<T>::denorm_min();
         else
-            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
-    });
+            nudge_ulp(c.shape.radius, g);
+    };
+    return near_grazing_from(sphere_grazing<T>(rng), rng, nudge_radius, nudge_origin);
 }
 
 // Axis-aligned directions (the other components +0 or -0) passing the centre at an
