@@ -318,21 +318,30 @@ template <class T> void special_t_range(Ray<T>& r, Rng& rng, T s) {
         default: r.t_min = 0; r.t_max = kInf<T>; break;
     }
 }
-// The range of an on_boundary case, whose boundary point is at the origin (at_origin)
-// or at the exact parameter s: `origin_range(r, rng)` in the first case, with a t_max
-// below t_min made +inf, special_t_range in the second.
+// Where an on_boundary case meets its boundary point: at the origin half the time
+// (s = 0), else at the integer parameter s drawn in [lo, hi].
+struct BoundaryParameter {
+    bool at_origin;
+    std::int64_t s;
+};
+inline BoundaryParameter boundary_parameter(Rng& rng, std::int64_t lo, std::int64_t hi) {
+    const bool at_origin = chance(rng, 1, 2);
+    return {at_origin, at_origin ? 0 : uniform_int(rng, lo, hi)};
+}
+// The range of an on_boundary case: `origin_range(r, rng)` when the point is at the
+// origin, with a t_max below t_min made +inf; special_t_range at s otherwise.
 template <class T, std::invocable<Ray<T>&, Rng&> OriginRange>
-void on_boundary_t_range(Ray<T>& r, Rng& rng, bool at_origin, T s, OriginRange origin_range) {
-    if (at_origin) {
+void on_boundary_t_range(Ray<T>& r, Rng& rng, BoundaryParameter at, OriginRange origin_range) {
+    if (at.at_origin) {
         origin_range(r, rng);
         if (r.t_max < r.t_min) r.t_max = kInf<T>;
     } else {
-        special_t_range(r, rng, s);
+        special_t_range(r, rng, T(at.s));
     }
 }
 // The same with the usual range at the origin: random_t_range, t_min made 0 half the time.
-template <class T> void on_boundary_t_range(Ray<T>& r, Rng& rng, bool at_origin, T s, double scale) {
-    on_boundary_t_range(r, rng, at_origin, s, [scale](Ray<T>& q, Rng& g) {
+template <class T> void on_boundary_t_range(Ray<T>& r, Rng& rng, BoundaryParameter at, double scale) {
+    on_boundary_t_range(r, rng, at, [scale](Ray<T>& q, Rng& g) {
         random_t_range(q, g, scale);
         if (chance(g, 1, 2)) q.t_min = 0;
     });

@@ -155,11 +155,10 @@ template <class T> Case<T, Aabb<T>> aabb_on_boundary(Rng& rng) {
         }
         if (!boundary) p[0] = b.lo[0];
         const I3 d = random_nonzero_i3(rng, 8);
-        const bool at_origin = chance(rng, 1, 2);
-        const std::int64_t s = at_origin ? 0 : uniform_int(rng, 1, 8);
+        const BoundaryParameter at = boundary_parameter(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
-        if (!detail::aabb_from_integers<T>(b, sub(p, mul(s, d)), dv, random_translation<T>(rng), c)) return false;
-        on_boundary_t_range(c.ray, rng, at_origin, T(s), 16);
+        if (!detail::aabb_from_integers<T>(b, sub(p, mul(at.s, d)), dv, random_translation<T>(rng), c)) return false;
+        on_boundary_t_range(c.ray, rng, at, 16);
         return true;
     });
 }

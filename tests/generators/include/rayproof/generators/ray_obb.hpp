@@ -185,12 +185,11 @@ template <class T> Case<T, Obb<T>> obb_on_boundary(Rng& rng) {
         const unsigned mask = 1u + unsigned(below(rng, 7));
         const I3 h = detail::half_extents_through(a, v, mask, rng);
         const I3 d = random_nonzero_i3(rng, 8);
-        const bool at_origin = chance(rng, 1, 2);
-        const std::int64_t s = at_origin ? 0 : uniform_int(rng, 1, 8);
+        const BoundaryParameter at = boundary_parameter(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
-        if (!detail::obb_from_integers<T>(a, center, h, sub(add(center, v), mul(s, d)), dv, random_translation<T>(rng), c))
+        if (!detail::obb_from_integers<T>(a, center, h, sub(add(center, v), mul(at.s, d)), dv, random_translation<T>(rng), c))
             return false;
-        on_boundary_t_range(c.ray, rng, at_origin, T(s), 8);
+        on_boundary_t_range(c.ray, rng, at, 8);
         return true;
     });
 }

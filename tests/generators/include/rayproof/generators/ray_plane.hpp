@@ -107,11 +107,10 @@ template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
         if (dot(n, d) == 0) return false;
         const I3 p0 = random_i3(rng, -8, 8);
         const I3 p = add(p0, random_translation<T>(rng));
-        const bool at_origin = chance(rng, 1, 2);
-        const std::int64_t s = at_origin ? 0 : uniform_int(rng, -8, 8);
-        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), 0, c))
+        const BoundaryParameter at = boundary_parameter(rng, -8, 8);
+        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(at.s, d)), to_vec_signed_zeros<T>(d, rng), 0, c))
             return false;
-        on_boundary_t_range(c.ray, rng, at_origin, T(s), [](Ray<T>& r, Rng& g) {
+        on_boundary_t_range(c.ray, rng, at, [](Ray<T>& r, Rng& g) {
             const auto k = below(g, 3);
             r.t_min = k == 0 ? T(0) : k == 1 ? std::numeric_limits<T>::denorm_min() : -T(0);
             r.t_max = chance(g, 1, 2) ? kInf<T> : T(uniform_int(g, 0, 4));

@@ -167,12 +167,11 @@ template <class T> Case<T, Sphere<T>> sphere_on_boundary(Rng& rng) {
             default: d = random_nonzero_i3(rng, 8); break;
         }
         if (is_zero(d)) return false;
-        const bool at_origin = chance(rng, 1, 2);
-        const std::int64_t s = at_origin ? 0 : uniform_int(rng, 1, 8);
+        const BoundaryParameter at = boundary_parameter(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
-        if (!detail::sphere_from_integers<T>(center, k * q.n, sub(surface, mul(s, d)), dv, random_translation<T>(rng), c))
+        if (!detail::sphere_from_integers<T>(center, k * q.n, sub(surface, mul(at.s, d)), dv, random_translation<T>(rng), c))
             return false;
-        on_boundary_t_range(c.ray, rng, at_origin, T(s), 8);
+        on_boundary_t_range(c.ray, rng, at, 8);
         return true;
     });
 }
