@@ -250,6 +250,15 @@ template <class T> I3 random_translation(Rng& rng) {
     return t;
 }
 
+// The ray from the integer point origin along d, or false (r untouched) when the point
+// is not exact in T.
+template <class T> bool ray_from_integers(const I3& origin, const Vec3<T>& d, Ray<T>& r) {
+    if (!representable<T>(origin)) return false;
+    r.origin = to_vec<T>(origin);
+    r.direction = d;
+    return true;
+}
+
 // A small direction or offset vector with random signed zeros in place of zeros.
 template <class T> Vec3<T> to_vec_signed_zeros(const I3& v, Rng& rng) {
     Vec3<T> r = to_vec<T>(v);

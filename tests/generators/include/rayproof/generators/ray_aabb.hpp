@@ -35,12 +35,10 @@ inline std::int64_t box_coord(const IBox& b, int i, int where, Rng& rng) {
 // The integer case translated by tau, or false when some number is not exact in T.
 template <class T> bool aabb_from_integers(const IBox& b, const I3& o, const Vec3<T>& d, const I3& tau,
                                            Case<T, Aabb<T>>& c) {
-    const I3 lo = add(b.lo, tau), hi = add(b.hi, tau), org = add(o, tau);
-    if (!representable<T>(lo) || !representable<T>(hi) || !representable<T>(org)) return false;
+    const I3 lo = add(b.lo, tau), hi = add(b.hi, tau);
+    if (!representable<T>(lo) || !representable<T>(hi) || !ray_from_integers(add(o, tau), d, c.ray)) return false;
     c.shape.lo = to_vec<T>(lo);
     c.shape.hi = to_vec<T>(hi);
-    c.ray.origin = to_vec<T>(org);
-    c.ray.direction = d;
     return true;
 }
 }  // namespace detail

@@ -17,15 +17,14 @@ namespace detail {
 // The Obb built from integers, translated by tau; false when some number is not exact.
 template <class T> bool obb_from_integers(const IMat3& a, const I3& center, const I3& h, const I3& origin,
                                           const Vec3<T>& d, const I3& tau, Case<T, Obb<T>>& c) {
-    const I3 ct = add(center, tau), ot = add(origin, tau);
-    if (!representable<T>(ct) || !representable<T>(ot) || !representable<T>(h)) return false;
+    const I3 ct = add(center, tau);
+    if (!representable<T>(ct) || !representable<T>(h)) return false;
     for (const auto& col : a.col)
         if (!representable<T>(col)) return false;
+    if (!ray_from_integers(add(origin, tau), d, c.ray)) return false;
     c.shape.center = to_vec<T>(ct);
     c.shape.axes = to_mat<T>(a);
     c.shape.half_extent = to_vec<T>(h);
-    c.ray.origin = to_vec<T>(ot);
-    c.ray.direction = d;
     return true;
 }
 // A rotation matrix in T from a random unit quaternion (rounded, so only nearly orthonormal).

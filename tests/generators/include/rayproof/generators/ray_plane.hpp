@@ -12,11 +12,9 @@ namespace detail {
 template <class T> bool plane_from_integers(const I3& n, const I3& point, const I3& origin, const Vec3<T>& d,
                                             std::int64_t offset_shift, Case<T, Plane<T>>& c) {
     const std::int64_t offset = dot(n, point) + offset_shift;
-    if (!representable<T>(n) || !representable<T>(origin) || !representable<T>(offset)) return false;
+    if (!representable<T>(n) || !representable<T>(offset) || !ray_from_integers(origin, d, c.ray)) return false;
     c.shape.normal = to_vec<T>(n);
     c.shape.offset = T(offset);
-    c.ray.origin = to_vec<T>(origin);
-    c.ray.direction = d;
     return true;
 }
 }  // namespace detail

@@ -14,12 +14,10 @@ namespace rayproof::gen {
 namespace detail {
 template <class T> bool sphere_from_integers(const I3& center, std::int64_t radius, const I3& origin, const Vec3<T>& d,
                                              const I3& tau, Case<T, Sphere<T>>& c) {
-    const I3 ct = add(center, tau), ot = add(origin, tau);
-    if (!representable<T>(ct) || !representable<T>(ot) || !representable<T>(radius)) return false;
+    const I3 ct = add(center, tau);
+    if (!representable<T>(ct) || !representable<T>(radius) || !ray_from_integers(add(origin, tau), d, c.ray)) return false;
     c.shape.center = to_vec<T>(ct);
     c.shape.radius = T(radius);
-    c.ray.origin = to_vec<T>(ot);
-    c.ray.direction = d;
     return true;
 }
 }  // namespace detail
