@@ -43,6 +43,12 @@ template <class T, class Shape> std::ostream& operator<<(std::ostream& os, const
     return os << "Case{" << c.generator << ": " << c.ray << ' ' << c.shape << '}';
 }
 
+// The case c under another generator's name (a case of one generator made into another's).
+template <class T, class Shape> Case<T, Shape> renamed(Case<T, Shape> c, std::string_view name) {
+    c.generator = name;
+    return c;
+}
+
 // FNV-1a of a name: portable per-generator seeds (std::hash differs between libraries).
 constexpr std::uint64_t name_hash(std::string_view s) {
     std::uint64_t h = 0xcbf29ce484222325ull;
@@ -512,8 +518,8 @@ template <class T, class Shape, class Build> Case<T, Shape> constructed(std::str
 // number of the case by an ulp or so, and the direction kept nonzero (a nudge may turn
 // its only nonzero component into zero).
 template <class T, class Shape, class Nudge>
-Case<T, Shape> near_grazing_from(Case<T, Shape> c, Rng& rng, Nudge nudge_one) {
-    c.generator = "near_grazing";
+Case<T, Shape> near_grazing_from(Case<T, Shape> grazing, Rng& rng, Nudge nudge_one) {
+    Case<T, Shape> c = renamed(grazing, "near_grazing");
     const int i = int(below(rng, 3));
     nudge_one(c, i);
     if (c.ray.direction.isZero()) c.ray.direction[i] = std::numeric_limits<T>::denorm_min();
@@ -547,8 +553,7 @@ enum class FaultAxis { none, drawn };
 template <class T, class Shape, class BreakShape>
 Case<T, Shape> invalid_from(Case<T, Shape> (*general)(Rng&), Case<T, Shape> (*grazing)(Rng&), Rng& rng,
                             unsigned shape_faults, FaultAxis axis, BreakShape break_shape) {
-    Case<T, Shape> c = chance(rng, 1, 2) ? general(rng) : grazing(rng);
-    c.generator = "invalid";
+    Case<T, Shape> c = renamed(chance(rng, 1, 2) ? general(rng) : grazing(rng), "invalid");
     const auto k = below(rng, unsigned(RayFault::count) + shape_faults);
     const int i = axis == FaultAxis::drawn ? int(below(rng, 3)) : -1;
     if (k < unsigned(RayFault::count))

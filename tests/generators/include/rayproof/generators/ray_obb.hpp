@@ -197,8 +197,7 @@ template <class T> Case<T, Obb<T>> obb_on_boundary(Rng& rng) {
 // dependent axes (valid: det != 0 by one ulp), axes of denormal or huge magnitude.
 template <class T> Case<T, Obb<T>> obb_extreme(Rng& rng) {
     using L = std::numeric_limits<T>;
-    Case<T, Obb<T>> c = obb_general<T>(rng);
-    c.generator = "extreme";
+    Case<T, Obb<T>> c = renamed(obb_general<T>(rng), "extreme");
     const auto kind = below(rng, 4);
     if (kind == 0) {  // tiny and far
         for (int i = 0; i < 3; ++i) c.shape.center[i] = magnitude<T>(rng, 20, L::max_exponent - 8);

@@ -125,8 +125,7 @@ template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
 // limit times the computed n·d overflows.
 template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
     using L = std::numeric_limits<T>;
-    Case<T, Plane<T>> c = plane_general<T>(rng);
-    c.generator = "extreme";
+    Case<T, Plane<T>> c = renamed(plane_general<T>(rng), "extreme");
     const auto kind = below(rng, 5);
     if (kind == 0) {  // nearly parallel
         const Vec3<T> w = nonzero_vec<T>(rng, [](Rng& g) { return uniform<T>(g, -1, 1); });
