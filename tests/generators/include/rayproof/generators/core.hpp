@@ -473,6 +473,17 @@ template <class T> Case<T, Sphere<T>> permute_axes(const Case<T, Sphere<T>>& c, 
 enum class RayFault { nan_origin, inf_origin, nan_direction, inf_direction, nan_t_min, nan_t_max, t_min_plus_inf,
                       t_max_minus_inf, t_min_above_t_max, zero_direction, count };
 
+// NaN, or +inf or -inf, with equal chance.
+template <class T> T non_finite(Rng& rng) { return chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>; }
+// A non_finite value put, with equal chance, in x or in a drawn component of v.
+template <class T> void make_non_finite(T& x, Vec3<T>& v, Rng& rng) {
+    const T bad = non_finite<T>(rng);
+    if (chance(rng, 1, 2))
+        x = bad;
+    else
+        v[below(rng, 3)] = bad;
+}
+
 // Makes r invalid in the given way (r is assumed valid).
 template <class T> void break_ray(Ray<T>& r, RayFault f, Rng& rng) {
     const int i = int(below(rng, 3));

@@ -220,7 +220,7 @@ template <class T> Case<T, Aabb<T>> aabb_invalid(Rng& rng) {
                         [&](Case<T, Aabb<T>>& c, unsigned k, int i) {
                             if (k == 0) {  // NaN or inf in the box
                                 T& x = chance(rng, 1, 2) ? c.shape.lo[i] : c.shape.hi[i];
-                                x = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
+                                x = non_finite<T>(rng);
                             } else {  // lo > hi, by one ulp or more
                                 c.shape.lo[i] = chance(rng, 1, 2) ? step_up(c.shape.hi[i])
                                                                   : c.shape.hi[i] + T(uniform_int(rng, 1, 8));

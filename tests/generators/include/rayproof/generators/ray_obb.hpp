@@ -242,7 +242,7 @@ template <class T> Case<T, Obb<T>> obb_invalid(Rng& rng) {
     return invalid_from(obb_general<T>, obb_grazing<T>, rng, 3, FaultAxis::drawn,
                         [&](Case<T, Obb<T>>& c, unsigned k, int i) {
                             if (k == 0) {
-                                const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
+                                const T bad = non_finite<T>(rng);
                                 const auto where = below(rng, 3);
                                 if (where == 0) c.shape.center[i] = bad;
                                 else if (where == 1) c.shape.axes(i, int(below(rng, 3))) = bad;

@@ -179,11 +179,7 @@ template <class T> Case<T, Plane<T>> plane_invalid(Rng& rng) {
                             if (k == 0) {
                                 for (int i = 0; i < 3; ++i) c.shape.normal[i] = (rng() & 1) ? T(0) : -T(0);
                             } else {
-                                const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
-                                if (chance(rng, 1, 2))
-                                    c.shape.offset = bad;
-                                else
-                                    c.shape.normal[below(rng, 3)] = bad;
+                                make_non_finite(c.shape.offset, c.shape.normal, rng);
                             }
                         });
 }

@@ -222,11 +222,7 @@ template <class T> Case<T, Sphere<T>> sphere_invalid(Rng& rng) {
                                 c.shape.radius = chance(rng, 1, 2) ? -std::numeric_limits<T>::denorm_min()
                                                                    : -uniform<T>(rng, 0.5, 8);
                             } else {
-                                const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
-                                if (chance(rng, 1, 2))
-                                    c.shape.radius = bad;
-                                else
-                                    c.shape.center[below(rng, 3)] = bad;
+                                make_non_finite(c.shape.radius, c.shape.center, rng);
                             }
                         });
 }
