@@ -20,6 +20,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <limits>
 #include <ostream>
@@ -40,6 +41,12 @@ template <class T, class Shape> struct Case {
 
 template <class T, class Shape> std::ostream& operator<<(std::ostream& os, const Case<T, Shape>& c) {
     return os << "Case{" << c.generator << ": " << c.ray << ' ' << c.shape << '}';
+}
+
+// The case c under another generator's name (a case of one generator made into another's).
+template <class T, class Shape> Case<T, Shape> renamed(Case<T, Shape> c, std::string_view name) {
+    c.generator = name;
+    return c;
 }
 
 // FNV-1a of a name: portable per-generator seeds (std::hash differs between libraries).
@@ -100,6 +107,8 @@ template <class T> T nudge(T x, int steps) {
     for (; steps < 0; ++steps) x = step_down(x);
     return x;
 }
+// x moved by one ulp either way (the sign drawn).
+template <class T> void nudge_ulp(T& x, Rng& rng) { x = nudge(x, random_sign(rng)); }
 // The two one-ulp neighbours of x.
 template <class T> std::array<T, 2> one_ulp_neighbours(T x) { return {step_down(x), step_up(x)}; }
 
@@ -247,6 +256,15 @@ template <class T> I3 random_translation(Rng& rng) {
     return t;
 }
 
+// The ray from the integer point origin along d, or false (r untouched) when the point
+// is not exact in T.
+template <class T> bool ray_from_integers(const I3& origin, const Vec3<T>& d, Ray<T>& r) {
+    if (!representable<T>(origin)) return false;
+    r.origin = to_vec<T>(origin);
+    r.direction = d;
+    return true;
+}
+
 // A small direction or offset vector with random signed zeros in place of zeros.
 template <class T> Vec3<T> to_vec_signed_zeros(const I3& v, Rng& rng) {
     Vec3<T> r = to_vec<T>(v);
@@ -262,6 +280,11 @@ template <class T, class F> Vec3<T> nonzero_vec(Rng& rng, F draw) {
         const Vec3<T> v(x, y, z);
         if (v[0] != 0 || v[1] != 0 || v[2] != 0) return v;
     }
+}
+
+// A nonzero T vector of wide values.
+template <class T> Vec3<T> nonzero_wide_vec(Rng& rng) {
+    return nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
 }
 
 // ---------------------------------------------------------------------------------
@@ -286,6 +309,17 @@ template <class T> void random_t_range(Ray<T>& r, Rng& rng, double scale = 16) {
         r.t_max = b;
     }
 }
+// The end of a log-uniform ray: a nonzero direction of wide values, then, one time in
+// four, a sorted range of wide values whose ends are each made infinite one time in four.
+template <class T> void wide_direction_and_range(Ray<T>& r, Rng& rng) {
+    r.direction = nonzero_wide_vec<T>(rng);
+    if (chance(rng, 1, 4)) {
+        T a = wide_value<T>(rng), b = wide_value<T>(rng);
+        if (b < a) std::swap(a, b);
+        r.t_min = chance(rng, 1, 4) ? -kInf<T> : a;
+        r.t_max = chance(rng, 1, 4) ? kInf<T> : b;
+    }
+}
 // A range for a constructed case where the special point is at the exact parameter s:
 // [0, inf), [s, inf) (t_min exactly at the point), [-inf, s] / [0, s] (t_max exactly at
 // it), [s, s], or the whole line.
@@ -298,6 +332,34 @@ template <class T> void special_t_range(Ray<T>& r, Rng& rng, T s) {
         case 4: r.t_min = std::min(T(0), s); r.t_max = s < 0 ? T(0) : s; break;
         default: r.t_min = 0; r.t_max = kInf<T>; break;
     }
+}
+// Where an on_boundary case meets its boundary point: at the origin half the time
+// (s = 0), else at the integer parameter s drawn in [lo, hi].
+struct BoundaryParameter {
+    bool at_origin;
+    std::int64_t s;
+};
+inline BoundaryParameter boundary_parameter(Rng& rng, std::int64_t lo, std::int64_t hi) {
+    const bool at_origin = chance(rng, 1, 2);
+    return {at_origin, at_origin ? 0 : uniform_int(rng, lo, hi)};
+}
+// The range of an on_boundary case: `origin_range(r, rng)` when the point is at the
+// origin, with a t_max below t_min made +inf; special_t_range at s otherwise.
+template <class T, std::invocable<Ray<T>&, Rng&> OriginRange>
+void on_boundary_t_range(Ray<T>& r, Rng& rng, BoundaryParameter at, OriginRange origin_range) {
+    if (at.at_origin) {
+        origin_range(r, rng);
+        if (r.t_max < r.t_min) r.t_max = kInf<T>;
+    } else {
+        special_t_range(r, rng, T(at.s));
+    }
+}
+// The same with the usual range at the origin: random_t_range, t_min made 0 half the time.
+template <class T> void on_boundary_t_range(Ray<T>& r, Rng& rng, BoundaryParameter at, double scale) {
+    on_boundary_t_range(r, rng, at, [scale](Ray<T>& q, Rng& g) {
+        random_t_range(q, g, scale);
+        if (chance(g, 1, 2)) q.t_min = 0;
+    });
 }
 
 // ---------------------------------------------------------------------------------
@@ -368,14 +430,20 @@ template <class T, class Shape> void random_exact_scaling(Case<T, Shape>& c, Rng
 template <class T> Vec3<T> permuted(const Vec3<T>& v, const std::array<int, 3>& perm) {
     return Vec3<T>(v[perm[0]], v[perm[1]], v[perm[2]]);
 }
+// ... and to the origin and direction of a ray (its range stays).
+template <class T> Ray<T> permuted(const Ray<T>& r, const std::array<int, 3>& perm) {
+    Ray<T> o = r;
+    o.origin = permuted(r.origin, perm);
+    o.direction = permuted(r.direction, perm);
+    return o;
+}
 // The same case with the box axes renamed: Aabb, Sphere, Plane permute the coordinates of
 // every vector; Obb permutes the columns of `axes` and the half extents (its coordinates
 // stay). The exact verdict and interval are unchanged; an entry face on old axis j is
 // on new axis i with perm[i] == j (up to the lowest-index tie rule).
 template <class T> Case<T, Aabb<T>> permute_axes(const Case<T, Aabb<T>>& c, const std::array<int, 3>& p) {
     Case<T, Aabb<T>> o = c;
-    o.ray.origin = permuted(c.ray.origin, p);
-    o.ray.direction = permuted(c.ray.direction, p);
+    o.ray = permuted(c.ray, p);
     o.shape.lo = permuted(c.shape.lo, p);
     o.shape.hi = permuted(c.shape.hi, p);
     return o;
@@ -388,15 +456,13 @@ template <class T> Case<T, Obb<T>> permute_axes(const Case<T, Obb<T>>& c, const 
 }
 template <class T> Case<T, Plane<T>> permute_axes(const Case<T, Plane<T>>& c, const std::array<int, 3>& p) {
     Case<T, Plane<T>> o = c;
-    o.ray.origin = permuted(c.ray.origin, p);
-    o.ray.direction = permuted(c.ray.direction, p);
+    o.ray = permuted(c.ray, p);
     o.shape.normal = permuted(c.shape.normal, p);
     return o;
 }
 template <class T> Case<T, Sphere<T>> permute_axes(const Case<T, Sphere<T>>& c, const std::array<int, 3>& p) {
     Case<T, Sphere<T>> o = c;
-    o.ray.origin = permuted(c.ray.origin, p);
-    o.ray.direction = permuted(c.ray.direction, p);
+    o.ray = permuted(c.ray, p);
     o.shape.center = permuted(c.shape.center, p);
     return o;
 }
@@ -406,6 +472,17 @@ template <class T> Case<T, Sphere<T>> permute_axes(const Case<T, Sphere<T>>& c, 
 
 enum class RayFault { nan_origin, inf_origin, nan_direction, inf_direction, nan_t_min, nan_t_max, t_min_plus_inf,
                       t_max_minus_inf, t_min_above_t_max, zero_direction, count };
+
+// NaN, or +inf or -inf, with equal chance.
+template <class T> T non_finite(Rng& rng) { return chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>; }
+// A non_finite value put, with equal chance, in x or in a drawn component of v.
+template <class T> void make_non_finite(T& x, Vec3<T>& v, Rng& rng) {
+    const T bad = non_finite<T>(rng);
+    if (chance(rng, 1, 2))
+        x = bad;
+    else
+        v[below(rng, 3)] = bad;
+}
 
 // Makes r invalid in the given way (r is assumed valid).
 template <class T> void break_ray(Ray<T>& r, RayFault f, Rng& rng) {
@@ -452,13 +529,30 @@ template <class T, class Shape, class Build> Case<T, Shape> constructed(std::str
 // number of the case by an ulp or so, and the direction kept nonzero (a nudge may turn
 // its only nonzero component into zero).
 template <class T, class Shape, class Nudge>
-Case<T, Shape> near_grazing_from(Case<T, Shape> c, Rng& rng, Nudge nudge_one) {
-    c.generator = "near_grazing";
+Case<T, Shape> near_grazing_from(Case<T, Shape> grazing, Rng& rng, Nudge nudge_one) {
+    Case<T, Shape> c = renamed(grazing, "near_grazing");
     const int i = int(below(rng, 3));
     nudge_one(c, i);
     if (c.ray.direction.isZero()) c.ray.direction[i] = std::numeric_limits<T>::denorm_min();
     return c;
 }
+
+// The near_grazing case of most shapes: k drawn in [0, 6); `first(c, i, rng)` when
+// k == 0, `second(c, i, rng)` when k == 1, else direction component i moved by one ulp.
+template <class T, class Shape, class First, class Second>
+Case<T, Shape> near_grazing_from(Case<T, Shape> c, Rng& rng, First first, Second second) {
+    return near_grazing_from(c, rng, [&](Case<T, Shape>& x, int i) {
+        const auto k = below(rng, 6);
+        if (k == 0)
+            first(x, i, rng);
+        else if (k == 1)
+            second(x, i, rng);
+        else
+            nudge_ulp(x.ray.direction[i], rng);
+    });
+}
+// Origin coordinate i moved by one ulp (a `first` or `second` of near_grazing_from).
+inline constexpr auto nudge_origin = [](auto& c, int i, Rng& rng) { nudge_ulp(c.ray.origin[i], rng); };
 
 // Whether an invalid generator draws an axis (after the fault, before breaking anything).
 enum class FaultAxis { none, drawn };
@@ -470,8 +564,7 @@ enum class FaultAxis { none, drawn };
 template <class T, class Shape, class BreakShape>
 Case<T, Shape> invalid_from(Case<T, Shape> (*general)(Rng&), Case<T, Shape> (*grazing)(Rng&), Rng& rng,
                             unsigned shape_faults, FaultAxis axis, BreakShape break_shape) {
-    Case<T, Shape> c = chance(rng, 1, 2) ? general(rng) : grazing(rng);
-    c.generator = "invalid";
+    Case<T, Shape> c = renamed(chance(rng, 1, 2) ? general(rng) : grazing(rng), "invalid");
     const auto k = below(rng, unsigned(RayFault::count) + shape_faults);
     const int i = axis == FaultAxis::drawn ? int(below(rng, 3)) : -1;
     if (k < unsigned(RayFault::count))

@@ -35,12 +35,10 @@ inline std::int64_t box_coord(const IBox& b, int i, int where, Rng& rng) {
 // The integer case translated by tau, or false when some number is not exact in T.
 template <class T> bool aabb_from_integers(const IBox& b, const I3& o, const Vec3<T>& d, const I3& tau,
                                            Case<T, Aabb<T>>& c) {
-    const I3 lo = add(b.lo, tau), hi = add(b.hi, tau), org = add(o, tau);
-    if (!representable<T>(lo) || !representable<T>(hi) || !representable<T>(org)) return false;
+    const I3 lo = add(b.lo, tau), hi = add(b.hi, tau);
+    if (!representable<T>(lo) || !representable<T>(hi) || !ray_from_integers(add(o, tau), d, c.ray)) return false;
     c.shape.lo = to_vec<T>(lo);
     c.shape.hi = to_vec<T>(hi);
-    c.ray.origin = to_vec<T>(org);
-    c.ray.direction = d;
     return true;
 }
 }  // namespace detail
@@ -79,13 +77,7 @@ template <class T> Case<T, Aabb<T>> aabb_log_uniform(Rng& rng) {
         c.shape.hi[i] = b;
         c.ray.origin[i] = wide_value<T>(rng);
     }
-    c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
-    if (chance(rng, 1, 4)) {
-        T a = wide_value<T>(rng), b = wide_value<T>(rng);
-        if (b < a) std::swap(a, b);
-        c.ray.t_min = chance(rng, 1, 4) ? -kInf<T> : a;
-        c.ray.t_max = chance(rng, 1, 4) ? kInf<T> : b;
-    }
+    wide_direction_and_range(c.ray, rng);
     return c;
 }
 
@@ -112,9 +104,9 @@ template <class T> Case<T, Aabb<T>> aabb_grazing(Rng& rng) {
 template <class T> Case<T, Aabb<T>> aabb_near_grazing(Rng& rng) {
     return near_grazing_from(aabb_grazing<T>(rng), rng, [&](Case<T, Aabb<T>>& c, int i) {
         if (chance(rng, 1, 4))
-            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
+            nudge_ulp(c.ray.origin[i], rng);
         else
-            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
+            nudge_ulp(c.ray.direction[i], rng);
     });
 }
 
@@ -161,16 +153,10 @@ template <class T> Case<T, Aabb<T>> aabb_on_boundary(Rng& rng) {
         }
         if (!boundary) p[0] = b.lo[0];
         const I3 d = random_nonzero_i3(rng, 8);
-        const bool at_origin = chance(rng, 1, 2);
-        const std::int64_t s = at_origin ? 0 : uniform_int(rng, 1, 8);
+        const BoundaryParameter at = boundary_parameter(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
-        if (!detail::aabb_from_integers<T>(b, sub(p, mul(s, d)), dv, random_translation<T>(rng), c)) return false;
-        if (at_origin)
-            random_t_range(c.ray, rng, 16);
-        else
-            special_t_range(c.ray, rng, T(s));
-        if (at_origin && chance(rng, 1, 2)) c.ray.t_min = 0;
-        if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
+        if (!detail::aabb_from_integers<T>(b, sub(p, mul(at.s, d)), dv, random_translation<T>(rng), c)) return false;
+        on_boundary_t_range(c.ray, rng, at, 16);
         return true;
     });
 }
@@ -200,7 +186,7 @@ template <class T> Case<T, Aabb<T>> aabb_extreme(Rng& rng) {
             c.shape.hi[i] = magnitude<T>(rng, L::max_exponent - 6, L::max_exponent - 1, false);
             c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : T(random_sign(rng)) * L::max();
         }
-        c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+        c.ray.direction = nonzero_wide_vec<T>(rng);
     } else if (kind == 2) {  // denormal sized
         for (int i = 0; i < 3; ++i) {
             T a = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent + 1);
@@ -210,7 +196,7 @@ template <class T> Case<T, Aabb<T>> aabb_extreme(Rng& rng) {
             c.shape.hi[i] = b;
             c.ray.origin[i] = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent + 4);
         }
-        c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+        c.ray.direction = nonzero_wide_vec<T>(rng);
     } else {  // long and thin, the ray nearly along the long axis
         const int a = int(below(rng, 3));
         for (int i = 0; i < 3; ++i) {
@@ -234,7 +220,7 @@ template <class T> Case<T, Aabb<T>> aabb_invalid(Rng& rng) {
                         [&](Case<T, Aabb<T>>& c, unsigned k, int i) {
                             if (k == 0) {  // NaN or inf in the box
                                 T& x = chance(rng, 1, 2) ? c.shape.lo[i] : c.shape.hi[i];
-                                x = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
+                                x = non_finite<T>(rng);
                             } else {  // lo > hi, by one ulp or more
                                 c.shape.lo[i] = chance(rng, 1, 2) ? step_up(c.shape.hi[i])
                                                                   : c.shape.hi[i] + T(uniform_int(rng, 1, 8));

@@ -17,15 +17,14 @@ namespace detail {
 // The Obb built from integers, translated by tau; false when some number is not exact.
 template <class T> bool obb_from_integers(const IMat3& a, const I3& center, const I3& h, const I3& origin,
                                           const Vec3<T>& d, const I3& tau, Case<T, Obb<T>>& c) {
-    const I3 ct = add(center, tau), ot = add(origin, tau);
-    if (!representable<T>(ct) || !representable<T>(ot) || !representable<T>(h)) return false;
+    const I3 ct = add(center, tau);
+    if (!representable<T>(ct) || !representable<T>(h)) return false;
     for (const auto& col : a.col)
         if (!representable<T>(col)) return false;
+    if (!ray_from_integers(add(origin, tau), d, c.ray)) return false;
     c.shape.center = to_vec<T>(ct);
     c.shape.axes = to_mat<T>(a);
     c.shape.half_extent = to_vec<T>(h);
-    c.ray.origin = to_vec<T>(ot);
-    c.ray.direction = d;
     return true;
 }
 // A rotation matrix in T from a random unit quaternion (rounded, so only nearly orthonormal).
@@ -76,7 +75,7 @@ template <class T> Case<T, Obb<T>> obb_log_uniform(Rng& rng) {
         c.shape.half_extent[i] = std::abs(wide_value<T>(rng));
         c.ray.origin[i] = wide_value<T>(rng);
     }
-    c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+    c.ray.direction = nonzero_wide_vec<T>(rng);
     if (chance(rng, 1, 4)) c.ray.t_min = -kInf<T>;
     return c;
 }
@@ -144,15 +143,9 @@ template <class T> Case<T, Obb<T>> obb_grazing(Rng& rng) {
 // The grazing rays with one direction component (or one origin coordinate, or one axis
 // entry: the box the floats describe moves) nudged by one ulp either way.
 template <class T> Case<T, Obb<T>> obb_near_grazing(Rng& rng) {
-    return near_grazing_from(obb_grazing<T>(rng), rng, [&](Case<T, Obb<T>>& c, int i) {
-        const auto k = below(rng, 6);
-        if (k == 0)
-            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
-        else if (k == 1) {
-            T& x = c.shape.axes(i, int(below(rng, 3)));
-            x = nudge(x, random_sign(rng));
-        } else
-            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
+    return near_grazing_from(obb_grazing<T>(rng), rng, nudge_origin, [](Case<T, Obb<T>>& c, int i, Rng& g) {
+        T& x = c.shape.axes(i, int(below(g, 3)));
+        nudge_ulp(x, g);
     });
 }
 
@@ -191,17 +184,11 @@ template <class T> Case<T, Obb<T>> obb_on_boundary(Rng& rng) {
         const unsigned mask = 1u + unsigned(below(rng, 7));
         const I3 h = detail::half_extents_through(a, v, mask, rng);
         const I3 d = random_nonzero_i3(rng, 8);
-        const bool at_origin = chance(rng, 1, 2);
-        const std::int64_t s = at_origin ? 0 : uniform_int(rng, 1, 8);
+        const BoundaryParameter at = boundary_parameter(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
-        if (!detail::obb_from_integers<T>(a, center, h, sub(add(center, v), mul(s, d)), dv, random_translation<T>(rng), c))
+        if (!detail::obb_from_integers<T>(a, center, h, sub(add(center, v), mul(at.s, d)), dv, random_translation<T>(rng), c))
             return false;
-        if (at_origin)
-            random_t_range(c.ray, rng, 8);
-        else
-            special_t_range(c.ray, rng, T(s));
-        if (at_origin && chance(rng, 1, 2)) c.ray.t_min = 0;
-        if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
+        on_boundary_t_range(c.ray, rng, at, 8);
         return true;
     });
 }
@@ -210,8 +197,7 @@ template <class T> Case<T, Obb<T>> obb_on_boundary(Rng& rng) {
 // dependent axes (valid: det != 0 by one ulp), axes of denormal or huge magnitude.
 template <class T> Case<T, Obb<T>> obb_extreme(Rng& rng) {
     using L = std::numeric_limits<T>;
-    Case<T, Obb<T>> c = obb_general<T>(rng);
-    c.generator = "extreme";
+    Case<T, Obb<T>> c = renamed(obb_general<T>(rng), "extreme");
     const auto kind = below(rng, 4);
     if (kind == 0) {  // tiny and far
         for (int i = 0; i < 3; ++i) c.shape.center[i] = magnitude<T>(rng, 20, L::max_exponent - 8);
@@ -226,7 +212,7 @@ template <class T> Case<T, Obb<T>> obb_extreme(Rng& rng) {
             c.shape.half_extent[i] = magnitude<T>(rng, L::max_exponent - 6, L::max_exponent - 1, false);
             c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : T(random_sign(rng)) * L::max();
         }
-        c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+        c.ray.direction = nonzero_wide_vec<T>(rng);
     } else if (kind == 2) {  // nearly dependent axes: a2 = a0 + a1 with one entry nudged
         const IMat3 a = integer_axes(rng);
         c.shape.axes = to_mat<T>(a);
@@ -256,7 +242,7 @@ template <class T> Case<T, Obb<T>> obb_invalid(Rng& rng) {
     return invalid_from(obb_general<T>, obb_grazing<T>, rng, 3, FaultAxis::drawn,
                         [&](Case<T, Obb<T>>& c, unsigned k, int i) {
                             if (k == 0) {
-                                const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
+                                const T bad = non_finite<T>(rng);
                                 const auto where = below(rng, 3);
                                 if (where == 0) c.shape.center[i] = bad;
                                 else if (where == 1) c.shape.axes(i, int(below(rng, 3))) = bad;

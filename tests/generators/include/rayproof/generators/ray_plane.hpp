@@ -12,11 +12,9 @@ namespace detail {
 template <class T> bool plane_from_integers(const I3& n, const I3& point, const I3& origin, const Vec3<T>& d,
                                             std::int64_t offset_shift, Case<T, Plane<T>>& c) {
     const std::int64_t offset = dot(n, point) + offset_shift;
-    if (!representable<T>(n) || !representable<T>(origin) || !representable<T>(offset)) return false;
+    if (!representable<T>(n) || !representable<T>(offset) || !ray_from_integers(origin, d, c.ray)) return false;
     c.shape.normal = to_vec<T>(n);
     c.shape.offset = T(offset);
-    c.ray.origin = to_vec<T>(origin);
-    c.ray.direction = d;
     return true;
 }
 }  // namespace detail
@@ -36,16 +34,10 @@ template <class T> Case<T, Plane<T>> plane_general(Rng& rng) {
 // Every number log-uniform over the whole exponent range of T.
 template <class T> Case<T, Plane<T>> plane_log_uniform(Rng& rng) {
     Case<T, Plane<T>> c{{}, {}, "log_uniform"};
-    c.shape.normal = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+    c.shape.normal = nonzero_wide_vec<T>(rng);
     c.shape.offset = wide_value<T>(rng);
     for (int i = 0; i < 3; ++i) c.ray.origin[i] = wide_value<T>(rng);
-    c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
-    if (chance(rng, 1, 4)) {
-        T a = wide_value<T>(rng), b = wide_value<T>(rng);
-        if (b < a) std::swap(a, b);
-        c.ray.t_min = chance(rng, 1, 4) ? -kInf<T> : a;
-        c.ray.t_max = chance(rng, 1, 4) ? kInf<T> : b;
-    }
+    wide_direction_and_range(c.ray, rng);
     return c;
 }
 
@@ -71,15 +63,9 @@ template <class T> Case<T, Plane<T>> plane_grazing(Rng& rng) {
 // at a huge |t|, ahead or behind), or the offset or one origin coordinate moved by one
 // ulp (parallel, just off the plane).
 template <class T> Case<T, Plane<T>> plane_near_grazing(Rng& rng) {
-    return near_grazing_from(plane_grazing<T>(rng), rng, [&](Case<T, Plane<T>>& c, int i) {
-        const auto k = below(rng, 6);
-        if (k == 0)
-            c.shape.offset = nudge(c.shape.offset, random_sign(rng));
-        else if (k == 1)
-            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
-        else
-            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
-    });
+    return near_grazing_from(
+        plane_grazing<T>(rng), rng, [](Case<T, Plane<T>>& c, int, Rng& g) { nudge_ulp(c.shape.offset, g); },
+        nudge_origin);
 }
 
 // Exactly parallel rays (n·d == 0) off the plane by an integer distance, and axis-aligned
@@ -119,18 +105,14 @@ template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
         if (dot(n, d) == 0) return false;
         const I3 p0 = random_i3(rng, -8, 8);
         const I3 p = add(p0, random_translation<T>(rng));
-        const bool at_origin = chance(rng, 1, 2);
-        const std::int64_t s = at_origin ? 0 : uniform_int(rng, -8, 8);
-        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), 0, c))
+        const BoundaryParameter at = boundary_parameter(rng, -8, 8);
+        if (!detail::plane_from_integers<T>(n, p, sub(p, mul(at.s, d)), to_vec_signed_zeros<T>(d, rng), 0, c))
             return false;
-        if (at_origin) {
-            const auto k = below(rng, 3);
-            c.ray.t_min = k == 0 ? T(0) : k == 1 ? std::numeric_limits<T>::denorm_min() : -T(0);
-            c.ray.t_max = chance(rng, 1, 2) ? kInf<T> : T(uniform_int(rng, 0, 4));
-            if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
-        } else {
-            special_t_range(c.ray, rng, T(s));
-        }
+        on_boundary_t_range(c.ray, rng, at, [](Ray<T>& r, Rng& g) {
+            const auto k = below(g, 3);
+            r.t_min = k == 0 ? T(0) : k == 1 ? std::numeric_limits<T>::denorm_min() : -T(0);
+            r.t_max = chance(g, 1, 2) ? kInf<T> : T(uniform_int(g, 0, 4));
+        });
         return true;
     });
 }
@@ -143,8 +125,7 @@ template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
 // limit times the computed n·d overflows.
 template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
     using L = std::numeric_limits<T>;
-    Case<T, Plane<T>> c = plane_general<T>(rng);
-    c.generator = "extreme";
+    Case<T, Plane<T>> c = renamed(plane_general<T>(rng), "extreme");
     const auto kind = below(rng, 5);
     if (kind == 0) {  // nearly parallel
         const Vec3<T> w = nonzero_vec<T>(rng, [](Rng& g) { return uniform<T>(g, -1, 1); });
@@ -152,7 +133,7 @@ template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
         if (c.ray.direction.isZero()) c.ray.direction = Vec3<T>(1, 0, 0);
         if (chance(rng, 1, 2)) {
             const int j = int(below(rng, 3));
-            c.ray.direction[j] = nudge(c.ray.direction[j], random_sign(rng));
+            nudge_ulp(c.ray.direction[j], rng);
         }
     } else if (kind == 1) {  // far plane
         c.shape.offset = magnitude<T>(rng, 20, L::max_exponent - 2);
@@ -198,11 +179,7 @@ template <class T> Case<T, Plane<T>> plane_invalid(Rng& rng) {
                             if (k == 0) {
                                 for (int i = 0; i < 3; ++i) c.shape.normal[i] = (rng() & 1) ? T(0) : -T(0);
                             } else {
-                                const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
-                                if (chance(rng, 1, 2))
-                                    c.shape.offset = bad;
-                                else
-                                    c.shape.normal[below(rng, 3)] = bad;
+                                make_non_finite(c.shape.offset, c.shape.normal, rng);
                             }
                         });
 }

@@ -14,12 +14,10 @@ namespace rayproof::gen {
 namespace detail {
 template <class T> bool sphere_from_integers(const I3& center, std::int64_t radius, const I3& origin, const Vec3<T>& d,
                                              const I3& tau, Case<T, Sphere<T>>& c) {
-    const I3 ct = add(center, tau), ot = add(origin, tau);
-    if (!representable<T>(ct) || !representable<T>(ot) || !representable<T>(radius)) return false;
+    const I3 ct = add(center, tau);
+    if (!representable<T>(ct) || !representable<T>(radius) || !ray_from_integers(add(origin, tau), d, c.ray)) return false;
     c.shape.center = to_vec<T>(ct);
     c.shape.radius = T(radius);
-    c.ray.origin = to_vec<T>(ot);
-    c.ray.direction = d;
     return true;
 }
 }  // namespace detail
@@ -49,7 +47,7 @@ template <class T> Case<T, Sphere<T>> sphere_log_uniform(Rng& rng) {
         c.ray.origin[i] = wide_value<T>(rng);
     }
     c.shape.radius = std::abs(wide_value<T>(rng));
-    c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+    c.ray.direction = nonzero_wide_vec<T>(rng);
     if (chance(rng, 1, 4)) c.ray.t_min = -kInf<T>;
     return c;
 }
@@ -84,16 +82,13 @@ template <class T> Case<T, Sphere<T>> sphere_grazing(Rng& rng) {
 // The tangent rays with one direction component moved by one ulp either way, or the
 // radius or one origin coordinate moved by one ulp: a hair inside or outside tangency.
 template <class T> Case<T, Sphere<T>> sphere_near_grazing(Rng& rng) {
-    return near_grazing_from(sphere_grazing<T>(rng), rng, [&](Case<T, Sphere<T>>& c, int i) {
-        const auto k = below(rng, 6);
-        if (k == 0)
-            c.shape.radius =
-                c.shape.radius == 0 ? std::numeric_limits<T>::denorm_min() : nudge(c.shape.radius, random_sign(rng));
-        else if (k == 1)
-            c.ray.origin[i] = nudge(c.ray.origin[i], random_sign(rng));
+    const auto nudge_radius = [](Case<T, Sphere<T>>& c, int, Rng& g) {
+        if (c.shape.radius == 0)
+            c.shape.radius = std::numeric_limits<T>::denorm_min();
         else
-            c.ray.direction[i] = nudge(c.ray.direction[i], random_sign(rng));
-    });
+            nudge_ulp(c.shape.radius, g);
+    };
+    return near_grazing_from(sphere_grazing<T>(rng), rng, nudge_radius, nudge_origin);
 }
 
 // Axis-aligned directions (the other components +0 or -0) passing the centre at an
@@ -170,18 +165,11 @@ template <class T> Case<T, Sphere<T>> sphere_on_boundary(Rng& rng) {
             default: d = random_nonzero_i3(rng, 8); break;
         }
         if (is_zero(d)) return false;
-        const bool at_origin = chance(rng, 1, 2);
-        const std::int64_t s = at_origin ? 0 : uniform_int(rng, 1, 8);
+        const BoundaryParameter at = boundary_parameter(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
-        if (!detail::sphere_from_integers<T>(center, k * q.n, sub(surface, mul(s, d)), dv, random_translation<T>(rng), c))
+        if (!detail::sphere_from_integers<T>(center, k * q.n, sub(surface, mul(at.s, d)), dv, random_translation<T>(rng), c))
             return false;
-        if (at_origin) {
-            random_t_range(c.ray, rng, 8);
-            if (chance(rng, 1, 2)) c.ray.t_min = 0;
-            if (c.ray.t_max < c.ray.t_min) c.ray.t_max = kInf<T>;
-        } else {
-            special_t_range(c.ray, rng, T(s));
-        }
+        on_boundary_t_range(c.ray, rng, at, 8);
         return true;
     });
 }
@@ -210,7 +198,7 @@ template <class T> Case<T, Sphere<T>> sphere_extreme(Rng& rng) {
             c.shape.center[i] = wide_value<T>(rng);
             c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : c.shape.radius * T(uniform01(rng));
         }
-        c.ray.direction = nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+        c.ray.direction = nonzero_wide_vec<T>(rng);
     } else {  // denormal sized
         for (int i = 0; i < 3; ++i) {
             c.shape.center[i] = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent);
@@ -218,7 +206,7 @@ template <class T> Case<T, Sphere<T>> sphere_extreme(Rng& rng) {
         }
         c.shape.radius = magnitude<T>(rng, L::min_exponent - kPrecision<T>, L::min_exponent, false);
         c.ray.direction = chance(rng, 1, 2) ? Vec3<T>(c.shape.center - c.ray.origin)
-                                            : nonzero_vec<T>(rng, [](Rng& g) { return wide_value<T>(g); });
+                                            : nonzero_wide_vec<T>(rng);
     }
     if (c.ray.direction.isZero()) c.ray.direction = Vec3<T>(1, 0, 0);
     if (chance(rng, 1, 4)) c.ray.t_min = -kInf<T>;
@@ -234,11 +222,7 @@ template <class T> Case<T, Sphere<T>> sphere_invalid(Rng& rng) {
                                 c.shape.radius = chance(rng, 1, 2) ? -std::numeric_limits<T>::denorm_min()
                                                                    : -uniform<T>(rng, 0.5, 8);
                             } else {
-                                const T bad = chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>;
-                                if (chance(rng, 1, 2))
-                                    c.shape.radius = bad;
-                                else
-                                    c.shape.center[below(rng, 3)] = bad;
+                                make_non_finite(c.shape.radius, c.shape.center, rng);
                             }
                         });
 }
