@@ -199,12 +199,7 @@ private:
         return s;
     }
     int exact_den_sign(int i) const {
-        return *with_exact(safe(), [&](auto tag) -> std::optional<int> {
-            using E = typename decltype(tag)::type;
-            const E d = den<E>(i);
-            if (d.overflowed()) return std::nullopt;
-            return d.sign();
-        });
+        return detail::exact_sign(safe(), [&](auto tag) { return den<typename decltype(tag)::type>(i); });
     }
     const Ray<T>* r_;
     const Obb<T>* b_;

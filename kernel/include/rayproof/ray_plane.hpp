@@ -253,13 +253,7 @@ public:
     }
 
 private:
-    template <class F> int exact_sign(F&& value) const {
-        return *with_exact(safe(), [&](auto tag) -> std::optional<int> {
-            const auto v = value(tag);
-            if (v.overflowed()) return std::nullopt;
-            return v.sign();
-        });
-    }
+    template <class F> int exact_sign(F&& value) const { return detail::exact_sign(safe(), value); }
     const Ray<T>* r_;
     const Plane<T>* p_;
     Interval<double> num_, den_;

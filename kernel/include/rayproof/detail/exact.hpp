@@ -611,6 +611,16 @@ template <int Cap = kDefaultExpansionCap, class F> auto with_exact(bool safe, F&
     return f(exact_tag<BigDyadic>{});
 }
 
+// The exact sign of value(exact_tag<E>{}), an exact value computed once for both exact
+// types by with_exact: an overflowed expansion hands the value over to BigDyadic.
+template <class F> int exact_sign(bool safe, F&& value) {
+    return *with_exact(safe, [&](auto tag) -> std::optional<int> {
+        const auto v = value(tag);
+        if (v.overflowed()) return std::nullopt;
+        return v.sign();
+    });
+}
+
 namespace exact_impl {
 
 // sign(num/den − x) = sign(num − x·den)·sign(den), exact; x finite. nullopt when an

@@ -122,13 +122,7 @@ private:
         return expansion_safe(r_->origin) && expansion_safe(r_->direction) && expansion_safe(s_->center) &&
                expansion_safe(s_->radius);
     }
-    template <class F> int exact_sign(F&& value) const {
-        return *with_exact(safe(), [&](auto tag) -> std::optional<int> {
-            const auto v = value(tag);
-            if (v.overflowed()) return std::nullopt;
-            return v.sign();
-        });
-    }
+    template <class F> int exact_sign(F&& value) const { return detail::exact_sign(safe(), value); }
     const Ray<T>* r_;
     const Sphere<T>* s_;
     I delta_[3], a_, b_, c_;
