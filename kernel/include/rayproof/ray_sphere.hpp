@@ -48,11 +48,11 @@
 //            intersect.hpp) comes from a filter of its own, signs only, with no square
 //            root, division or root and no range restriction (sphere_verdict_common),
 //            else from the full query.
-// Stages:    each in a header of its own under detail/: sphere_quadratic.hpp (q's
-//            enclosures and exact signs), sphere_residual.hpp (q in double-word
-//            arithmetic with a proven bound), sphere_general.hpp (the certified general
-//            path), sphere_straight_line.hpp (the certified straight-line path) and
-//            sphere_verdict.hpp (the certified verdict filter). This header holds the
+// Stages:    each in a header of its own under detail/: ray_sphere_quadratic.hpp (q's
+//            enclosures and exact signs), ray_sphere_residual.hpp (q in double-word
+//            arithmetic with a proven bound), ray_sphere_general.hpp (the certified general
+//            path), ray_sphere_straight_line.hpp (the certified straight-line path) and
+//            ray_sphere_verdict.hpp (the certified verdict filter). This header holds the
 //            modes; the certified one and the conservative one's fallback both call
 //            sphere_certified_answer.
 #pragma once
@@ -62,10 +62,10 @@
 #include <rayproof/detail/interval.hpp>
 #include <rayproof/detail/prepared.hpp>
 #include <rayproof/detail/rounding.hpp>
-#include <rayproof/detail/sphere_general.hpp>
-#include <rayproof/detail/sphere_quadratic.hpp>
-#include <rayproof/detail/sphere_straight_line.hpp>
-#include <rayproof/detail/sphere_verdict.hpp>
+#include <rayproof/detail/ray_sphere_general.hpp>
+#include <rayproof/detail/ray_sphere_quadratic.hpp>
+#include <rayproof/detail/ray_sphere_straight_line.hpp>
+#include <rayproof/detail/ray_sphere_verdict.hpp>
 #include <rayproof/detail/validate.hpp>
 #include <rayproof/types.hpp>
 

@@ -1,13 +1,13 @@
-// rayproof/detail/sphere_straight_line.hpp — the straight-line path of the certified
+// rayproof/detail/ray_sphere_straight_line.hpp — the straight-line path of the certified
 // Ray/Sphere query (sphere_certified_common): the roots estimated in double as the fast
 // mode does, each refined and proven, or a miss proven; anything it cannot prove is left
-// to the general path (sphere_general.hpp), whose answers it gives bit for bit.
+// to the general path (ray_sphere_general.hpp), whose answers it gives bit for bit.
 #pragma once
 
 #include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/rounding.hpp>
-#include <rayproof/detail/sphere_residual.hpp>
+#include <rayproof/detail/ray_sphere_residual.hpp>
 #include <rayproof/types.hpp>
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-// rayproof/detail/sphere_residual.hpp — the sphere's double-word residual:
+// rayproof/detail/ray_sphere_residual.hpp — the sphere's double-word residual:
 // q(t) = |(o - c) + t d|² - r² at a double t with a proven error bound (SphereResidual),
 // for the certified Ray/Sphere query (ray_sphere.hpp): the general path's second filter
 // and the straight-line path's proofs.

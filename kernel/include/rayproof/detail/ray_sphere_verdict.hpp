@@ -1,4 +1,4 @@
-// rayproof/detail/sphere_verdict.hpp — the verdict filter of the certified Ray/Sphere
+// rayproof/detail/ray_sphere_verdict.hpp — the verdict filter of the certified Ray/Sphere
 // query (sphere_verdict_common): signs only, no square root, division or root; it
 // answers int(Verdict::miss), int(Verdict::hit) or verdict_declined
 // (detail/certified.hpp).

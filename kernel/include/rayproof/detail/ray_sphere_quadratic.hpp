@@ -1,13 +1,13 @@
-// rayproof/detail/sphere_quadratic.hpp — the quadratic q(t) = |Δ + t d|² - r² of a ray
+// rayproof/detail/ray_sphere_quadratic.hpp — the quadratic q(t) = |Δ + t d|² - r² of a ray
 // and a sphere (SphereQuadratic): interval enclosures of its coefficients, discriminant,
 // roots and values, its double-word residual, and its exact signs. The conservative mode
-// answers from its enclosures, the certified general path (sphere_general.hpp) decides
+// answers from its enclosures, the certified general path (ray_sphere_general.hpp) decides
 // on them.
 #pragma once
 
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/interval.hpp>
-#include <rayproof/detail/sphere_residual.hpp>
+#include <rayproof/detail/ray_sphere_residual.hpp>
 #include <rayproof/types.hpp>
 
 #include <optional>

@@ -1,4 +1,4 @@
-// rayproof/detail/sphere_general.hpp — the general path of the certified Ray/Sphere
+// rayproof/detail/ray_sphere_general.hpp — the general path of the certified Ray/Sphere
 // query: every decision on exact signs, each tried first on the quadratic's intervals
 // (and, for double, on its double-word residual), and t_enter and t_exit found by a
 // search over the ordered floats (detail/rounding.hpp). It answers every valid input.
@@ -7,7 +7,7 @@
 #include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/interval.hpp>
 #include <rayproof/detail/rounding.hpp>
-#include <rayproof/detail/sphere_quadratic.hpp>
+#include <rayproof/detail/ray_sphere_quadratic.hpp>
 #include <rayproof/types.hpp>
 
 #include <algorithm>
