@@ -98,6 +98,8 @@ template <class T> T from_key(std::int64_t k) {
     }
 }
 
+// The oracle steps floats with the standard library, not with the kernel's
+// detail::step_up/step_down: the ground truth shares no code with what it judges.
 template <class T> T step_up(T x) { return std::nextafter(x, std::numeric_limits<T>::infinity()); }
 template <class T> T step_down(T x) { return std::nextafter(x, -std::numeric_limits<T>::infinity()); }
 
