@@ -175,7 +175,7 @@ TEST_P(Media, NoWorkForUnusedFeatures) {
               (no_mirrors.stats.primary + no_mirrors.stats.shadow) * s.objects.size());
 }
 
-INSTANTIATE_TEST_SUITE_P(Modes, Media, ::testing::ValuesIn(available_modes()),
+INSTANTIATE_TEST_SUITE_P(Modes, Media, ::testing::ValuesIn(every_mode()),
                          [](const auto& info) { return std::string(mode_name(info.param)); });
 
 }  // namespace

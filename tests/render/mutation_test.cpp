@@ -69,7 +69,7 @@ TEST(ParserMutations, EveryInputGetsASceneOrAClearError) {
             Scene s = *r.scene;
             s.settings.width = s.settings.height = 3;
             s.settings.depth = std::min(s.settings.depth, 3);
-            for (Mode m : available_modes()) {
+            for (Mode m : every_mode()) {
                 s.settings.mode = m;
                 (void)radiance(s, 1.5, 1.5);
             }

@@ -20,7 +20,8 @@ inline void PrintTo(Mode m, std::ostream* os) { *os << mode_name(m); }
 
 namespace rayproof::render::testing {
 
-inline std::vector<Mode> available_modes() { return {std::begin(all_modes), std::end(all_modes)}; }
+// Every mode, in the order of all_modes, as a vector for the parameterized tests.
+inline std::vector<Mode> every_mode() { return {std::begin(all_modes), std::end(all_modes)}; }
 
 inline std::string scene_path(const std::string& name) { return std::string(RAYPROOF_SCENES_DIR) + "/" + name; }
 
