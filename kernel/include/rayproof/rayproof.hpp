@@ -18,3 +18,4 @@
 #include <rayproof/ray_plane.hpp>
 #include <rayproof/ray_sphere.hpp>
 #include <rayproof/types.hpp>
+#include <rayproof/version.hpp>

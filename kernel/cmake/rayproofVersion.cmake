@@ -1,0 +1,21 @@
+# rayproof_read_version(<var> <header>): sets <var> to "MAJOR.MINOR.PATCH" as written in
+# rayproof/version.hpp, the one place the version is kept, so that project(), the
+# package version file and rayproof.pc cannot disagree with the header.
+function(rayproof_read_version var header)
+  file(STRINGS ${header} lines REGEX "^#define RAYPROOF_VERSION_(MAJOR|MINOR|PATCH) +[0-9]+$")
+  set(parts)
+  foreach(part MAJOR MINOR PATCH)
+    set(value "")
+    foreach(line IN LISTS lines)
+      if(line MATCHES "^#define RAYPROOF_VERSION_${part} +([0-9]+)$")
+        set(value ${CMAKE_MATCH_1})
+      endif()
+    endforeach()
+    if(value STREQUAL "")
+      message(FATAL_ERROR "${header} has no line '#define RAYPROOF_VERSION_${part} <number>'")
+    endif()
+    list(APPEND parts ${value})
+  endforeach()
+  list(JOIN parts "." version)
+  set(${var} ${version} PARENT_SCOPE)
+endfunction()
