@@ -10,7 +10,7 @@ RAYPROOF_PACKAGES=(
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
   libgtest-dev librapidcheck-dev libbenchmark-dev
   nlohmann-json3-dev libpng-dev libembree-dev
-  povray gnuplot-nox
+  povray gnuplot-nox pkg-config
 )
 
 install_missing() {
