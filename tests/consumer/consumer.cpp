@@ -1,0 +1,197 @@
+// A program outside the project, written as an embedder would write it. Each consumer
+// test (find_package after the kernel-only install, add_subdirectory, FetchContent,
+// pkg-config with a plain compiler command line) builds this one file with the kernel's
+// include directory given by plain -I and -Wall -Wextra -Wpedantic -Wconversion
+// -Wsign-conversion -Wshadow -Werror, one of them with -fno-exceptions too.
+//
+// It instantiates every public query — every shape, every mode, float and double, the
+// scalar and the span forms of intersect and verdict — with normal(), reversed(), the io
+// helpers and the version macros, and checks the answers it can know exactly: all inputs
+// below are small integers and halves, so every exact t is representable and a certified
+// answer must equal it. It prints "rayproof <version> consumer: <n> checks passed" and
+// exits 0 only when every check holds.
+#include <rayproof/rayproof.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <span>
+#include <sstream>
+#include <string>
+#include <type_traits>
+
+#if !defined(RAYPROOF_VERSION_MAJOR) || !defined(RAYPROOF_VERSION_MINOR) || !defined(RAYPROOF_VERSION_PATCH)
+#error "rayproof/rayproof.hpp does not define the version macros"
+#endif
+static_assert(RAYPROOF_VERSION ==
+              RAYPROOF_VERSION_MAJOR * 10000 + RAYPROOF_VERSION_MINOR * 100 + RAYPROOF_VERSION_PATCH);
+
+namespace {
+
+int checks = 0;
+int failures = 0;
+
+void check(bool ok, const std::string& what) {
+    ++checks;
+    if (!ok) {
+        ++failures;
+        std::fprintf(stderr, "FAILED: %s\n", what.c_str());
+    }
+}
+
+template <class T> std::string name_of() { return sizeof(T) == sizeof(float) ? "float" : "double"; }
+
+// One shape with a ray whose exact answer is known, and a ray that misses it.
+template <class T, class Shape> struct Case {
+    const char* name;
+    Shape shape;
+    rayproof::Ray<T> hitting;
+    T t_enter, t_exit;  // the exact interval of `hitting`
+    int face;           // its exact entry face
+    int exit_face;      // the exact entry face of reversed(hitting)
+    rayproof::Vec3<T> outward;  // normal(shape, certified hit, hitting)
+    rayproof::Ray<T> missing;
+};
+
+template <class T> rayproof::Vec3<T> v3(double x, double y, double z) {
+    return rayproof::Vec3<T>(static_cast<T>(x), static_cast<T>(y), static_cast<T>(z));
+}
+
+template <class T> bool near(T got, T want) {
+    // Fast mode promises nothing; on these inputs, far from every hard case, plain
+    // floating point lands within a few ulps.
+    return std::abs(got - want) <= T(64) * std::numeric_limits<T>::epsilon() * std::abs(want);
+}
+
+// Each query is called from one place per instantiation: the kernel inlines its paths
+// into the caller, and one copy per combination keeps this file quick to compile.
+template <class T, class Shape, class Mode>
+[[gnu::noinline]] rayproof::Hit<T> ask(const rayproof::Ray<T>& r, const Shape& s, Mode mode) {
+    return rayproof::intersect(r, s, mode);
+}
+template <class T, class Shape, class Mode>
+[[gnu::noinline]] rayproof::Verdict ask_verdict(const rayproof::Ray<T>& r, const Shape& s, Mode mode) {
+    return rayproof::verdict(r, s, mode);
+}
+
+// What each mode promises about the hitting ray (docs/semantics.md).
+template <class T, class Shape, class Mode>
+void check_hit(const Case<T, Shape>& c, const rayproof::Hit<T>& h, Mode mode, const std::string& where) {
+    const std::string what = where + " " + c.name + "<" + name_of<T>() + "> " + rayproof::mode_name(mode);
+    check(h.verdict == rayproof::Verdict::hit && static_cast<bool>(h), what + ": verdict hit");
+    if constexpr (std::is_same_v<Mode, rayproof::certified_t>) {
+        check(h.t_enter == c.t_enter && h.t_exit == c.t_exit, what + ": t exact");
+        check(h.face == c.face, what + ": face exact");
+    } else if constexpr (std::is_same_v<Mode, rayproof::conservative_t>) {
+        check(h.t_enter <= c.t_enter && c.t_exit <= h.t_exit, what + ": interval encloses the exact one");
+    } else {
+        check(near(h.t_enter, c.t_enter) && near(h.t_exit, c.t_exit), what + ": t near the exact one");
+    }
+}
+
+template <class T, class Shape, class Mode> void check_mode(const Case<T, Shape>& c, Mode mode) {
+    using rayproof::Hit;
+    using rayproof::Ray;
+    using rayproof::Verdict;
+    const std::string what = std::string(c.name) + "<" + name_of<T>() + "> " + rayproof::mode_name(mode);
+
+    // Scalar forms.
+    const Hit<T> h = ask(c.hitting, c.shape, mode);
+    check_hit(c, h, mode, "scalar");
+    check(ask_verdict(c.hitting, c.shape, mode) == h.verdict, what + ": verdict() equals intersect().verdict");
+
+    Ray<T> zero = c.hitting;
+    zero.direction.setZero();
+    check(ask(zero, c.shape, mode).verdict == Verdict::invalid, what + ": zero direction invalid");
+    check(ask_verdict(zero, c.shape, mode) == Verdict::invalid, what + ": verdict() of zero direction invalid");
+
+    // Span forms, over the hitting, the missing and the invalid ray.
+    const std::array<Ray<T>, 3> rays{c.hitting, c.missing, zero};
+    std::array<Hit<T>, 3> hits{};
+    std::array<Verdict, 3> verdicts{};
+    rayproof::intersect(std::span<const Ray<T>>(rays), c.shape, mode, std::span<Hit<T>>(hits));
+    rayproof::verdict(std::span<const Ray<T>>(rays), c.shape, mode, std::span<Verdict>(verdicts));
+    check_hit(c, hits[0], mode, "batch");
+    check(hits[2].verdict == Verdict::invalid && verdicts[2] == Verdict::invalid, what + ": batch invalid");
+
+    if constexpr (std::is_same_v<Mode, rayproof::certified_t>) {
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            const Hit<T> one = ask(rays[i], c.shape, mode);
+            check(std::memcmp(&one.t_enter, &hits[i].t_enter, sizeof(T)) == 0 &&
+                      std::memcmp(&one.t_exit, &hits[i].t_exit, sizeof(T)) == 0 && one.verdict == hits[i].verdict &&
+                      one.face == hits[i].face,
+                  what + ": batch equals scalar bit for bit, element " + std::to_string(i));
+            check(verdicts[i] == one.verdict, what + ": batch verdict equals scalar, element " + std::to_string(i));
+        }
+        check(hits[1].verdict == Verdict::miss, what + ": miss");
+
+        // The same ray backwards: [-t_exit, -t_enter], entered through the exit face.
+        const Hit<T> back = ask(rayproof::reversed(c.hitting), c.shape, mode);
+        check(back.verdict == Verdict::hit && back.t_enter == -c.t_exit && back.t_exit == -c.t_enter &&
+                  back.face == c.exit_face,
+              what + ": reversed ray");
+
+        check(rayproof::normal(c.shape, h, c.hitting) == c.outward, what + ": normal()");
+        check(rayproof::normal(c.shape, hits[1], c.missing) == rayproof::Vec3<T>::Zero(), what + ": normal() of a miss");
+    }
+}
+
+template <class T, class Shape> void check_case(const Case<T, Shape>& c) {
+    check_mode(c, rayproof::fast);
+    check_mode(c, rayproof::conservative);
+    check_mode(c, rayproof::certified);
+
+    // io: every public type prints, numbers in hexadecimal floating point.
+    std::ostringstream os;
+    os << c.shape << ' ' << c.hitting << ' ' << ask(c.hitting, c.shape, rayproof::certified);
+    check(os.str().rfind(std::string(c.name) + "{", 0) == 0, std::string(c.name) + ": operator<< of the shape");
+    check(os.str().find(" Ray{o=") != std::string::npos, std::string(c.name) + ": operator<< of the ray");
+    check(os.str().find(" Hit{hit t=[") != std::string::npos, std::string(c.name) + ": operator<< of the hit");
+}
+
+template <class T> void check_type() {
+    using namespace rayproof;
+    Mat3<T> turn;  // a quarter turn about z: columns (0, 1, 0), (-1, 0, 0), (0, 0, 1)
+    turn << 0, -1, 0, 1, 0, 0, 0, 0, 1;
+
+    check_case(Case<T, Aabb<T>>{"Aabb", Aabb<T>{v3<T>(-1, -1, -1), v3<T>(1, 1, 1)},
+                                Ray<T>{v3<T>(-4, 0.5, 0), v3<T>(1, 0, 0)}, T(3), T(5), 0, 1, v3<T>(-1, 0, 0),
+                                Ray<T>{v3<T>(-4, 5, 0), v3<T>(1, 0, 0)}});
+    // Along x the ray crosses the second axis, (-1, 0, 0), whose slab |x - 0.5| <= 2 it
+    // enters at x = -1.5 on its + side (face 2*1 + 1) and leaves at x = 2.5 (face 2).
+    check_case(Case<T, Obb<T>>{"Obb", Obb<T>{v3<T>(0.5, 0, 0), turn, v3<T>(1, 2, 3)},
+                               Ray<T>{v3<T>(-4.5, 0.5, 0), v3<T>(1, 0, 0)}, T(3), T(7), 3, 2, v3<T>(-1, 0, 0),
+                               Ray<T>{v3<T>(-4.5, 5, 0), v3<T>(1, 0, 0)}});
+    check_case(Case<T, Plane<T>>{"Plane", Plane<T>{v3<T>(0, 0, 2), T(4)}, Ray<T>{v3<T>(1, 1, -1), v3<T>(0, 0, 0.5)},
+                                 T(6), T(6), -1, -1, v3<T>(0, 0, -1), Ray<T>{v3<T>(1, 1, -1), v3<T>(0, 0, -0.5)}});
+    check_case(Case<T, Sphere<T>>{"Sphere", Sphere<T>{v3<T>(1, 2, 3), T(2)}, Ray<T>{v3<T>(1, 2, -7), v3<T>(0, 0, 2)},
+                                  T(4), T(6), -1, -1, v3<T>(0, 0, -1), Ray<T>{v3<T>(1, 5, -7), v3<T>(0, 0, 2)}});
+
+    // The printed form reproduces bit for bit: 3 and 5 in hexadecimal floating point.
+    std::ostringstream os;
+    os << ask(Ray<T>{v3<T>(-4, 0.5, 0), v3<T>(1, 0, 0)}, Aabb<T>{v3<T>(-1, -1, -1), v3<T>(1, 1, 1)}, certified);
+    check(os.str() == "Hit{hit t=[0x1.8p+1, 0x1.4p+2] face=0}", "operator<< of a Hit<" + name_of<T>() + ">: " + os.str());
+}
+
+}  // namespace
+
+int main() {
+    check(std::string(rayproof::to_string(rayproof::Verdict::invalid)) == "invalid", "to_string(Verdict)");
+    check(std::string(RAYPROOF_VERSION_STRING) == std::to_string(RAYPROOF_VERSION_MAJOR) + "." +
+                                                      std::to_string(RAYPROOF_VERSION_MINOR) + "." +
+                                                      std::to_string(RAYPROOF_VERSION_PATCH),
+          "RAYPROOF_VERSION_STRING is MAJOR.MINOR.PATCH");
+#ifdef CONSUMER_EXPECTED_VERSION
+    // The version the package reported (CMake's package version, pkg-config --modversion).
+    check(std::string(RAYPROOF_VERSION_STRING) == CONSUMER_EXPECTED_VERSION,
+          std::string("package version ") + CONSUMER_EXPECTED_VERSION + " equals the header's " + RAYPROOF_VERSION_STRING);
+#endif
+    check_type<float>();
+    check_type<double>();
+    std::printf("rayproof %s consumer: %d checks, %d failed\n", RAYPROOF_VERSION_STRING, checks, failures);
+    if (failures == 0) std::printf("rayproof consumer: all %d checks passed\n", checks);
+    return failures == 0 ? 0 : 1;
+}

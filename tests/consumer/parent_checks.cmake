@@ -1,0 +1,50 @@
+# consumer_check_parent(<rayproof source dir>): called by a parent project after it has
+# added rayproof as a subproject; fails the configure unless rayproof left the parent
+# alone: no build type written, no dependency beyond Eigen searched for (nothing of
+# CGAL, GMP, MPFR, Boost, GTest, RapidCheck, Google Benchmark, nlohmann_json, libpng,
+# Embree, Threads in the cache), no install directories, and no target but the kernel's
+# (so no test program or executable), no test.
+function(consumer_check_parent rayproof_dir)
+  set(problems)
+  if(NOT "$CACHE{CMAKE_BUILD_TYPE}" STREQUAL "")
+    list(APPEND problems "CMAKE_BUILD_TYPE is '$CACHE{CMAKE_BUILD_TYPE}' in the cache")
+  endif()
+  get_property(cache_names DIRECTORY ${CMAKE_SOURCE_DIR} PROPERTY CACHE_VARIABLES)
+  foreach(name IN LISTS cache_names)
+    if(name MATCHES "^(CGAL|GMP|MPFR|Boost|BOOST|GTest|GTEST|GMOCK|gtest|gmock|rapidcheck|benchmark|nlohmann|PNG|ZLIB|embree|TBB|Threads|CMAKE_HAVE_.*PTHREAD|CMAKE_INSTALL_.*DIR$)")
+      list(APPEND problems "cache variable ${name}")
+    elseif(name MATCHES "_DIR$" AND NOT name MATCHES "^(Eigen3_DIR|FETCHCONTENT_BASE_DIR)$"
+           AND NOT name MATCHES "^(rayproof|rayproof_consumer|RAYPROOF|CMAKE)_")
+      list(APPEND problems "cache variable ${name} (a package searched for)")
+    endif()
+  endforeach()
+
+  set(targets)
+  set(tests)
+  set(dirs ${rayproof_dir})
+  while(dirs)
+    list(POP_FRONT dirs dir)
+    get_property(dir_targets DIRECTORY ${dir} PROPERTY BUILDSYSTEM_TARGETS)
+    get_property(dir_tests DIRECTORY ${dir} PROPERTY TESTS)
+    get_property(subdirs DIRECTORY ${dir} PROPERTY SUBDIRECTORIES)
+    list(APPEND targets ${dir_targets})
+    list(APPEND tests ${dir_tests})
+    list(APPEND dirs ${subdirs})
+  endwhile()
+  if(NOT targets STREQUAL "rayproof_kernel")
+    list(APPEND problems "rayproof defines the targets [${targets}], not just rayproof_kernel")
+  endif()
+  if(tests)
+    list(APPEND problems "rayproof defines the tests [${tests}]")
+  endif()
+  if(NOT TARGET rayproof::kernel)
+    list(APPEND problems "no rayproof::kernel target")
+  endif()
+
+  if(problems)
+    list(JOIN problems "\n  " text)
+    message(FATAL_ERROR "rayproof as a subproject did not leave its parent alone:\n  ${text}")
+  endif()
+  list(LENGTH cache_names n)
+  message(STATUS "rayproof as a subproject: only rayproof_kernel defined, no test, ${n} cache entries checked")
+endfunction()
