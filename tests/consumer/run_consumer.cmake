@@ -101,7 +101,7 @@ elseif(WAY STREQUAL "pkg_config")
   # README.md's command line, with the test's warnings: Eigen's directory as -isystem
   # (Eigen's own headers are not -Wconversion clean), the kernel's as plain -I.
   file(MAKE_DIRECTORY ${build})
-  set(flags "-O1 -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Werror")
+  set(flags "-O0 -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Werror")
   set(line "'${CXX}' -std=c++20 ${flags} -DCONSUMER_EXPECTED_VERSION='\"${version}\"' \
 $(pkg-config --cflags-only-I eigen3 | sed 's/-I/-isystem /g') $(pkg-config --cflags rayproof) \
 '${CONSUMER_DIR}/consumer.cpp' -o '${build}/consumer'")
