@@ -22,6 +22,8 @@ import types as _types
 import numpy as np
 
 from . import _rayproof
+# reversed (the ray traversed backwards) is left out of __all__: a star import would
+# shadow the builtin.
 from ._rayproof import (
     Aabb,
     Aabb32,
@@ -47,7 +49,7 @@ from ._rayproof import (
 __all__ = [
     "Aabb", "Aabb32", "Hit", "Hit32", "HitArrays", "Mode", "Obb", "Obb32", "Plane", "Plane32", "Ray", "Ray32",
     "Sphere", "Sphere32", "Verdict", "certified", "conservative", "fast", "hit_dtype", "intersect",
-    "intersect_batch", "normal", "ray_dtype", "rays", "reversed", "types", "verdict", "verdict_batch",
+    "intersect_batch", "normal", "ray_dtype", "rays", "types", "verdict", "verdict_batch",
     "MODES", "SHAPES", "DTYPES",
 ]
 

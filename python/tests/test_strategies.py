@@ -8,7 +8,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import find, given
+from hypothesis import find, given, settings
 
 import exact
 import rayproof as rp
@@ -16,6 +16,8 @@ from exact import Fraction, cross, dot, q, qv, sub
 from rayproof import strategies as rs
 
 DTYPES = [np.float64, np.float32]
+# find() stops at the first example that satisfies it; this only bounds a search that fails.
+SEARCH = settings(max_examples=2000)
 
 
 def point_at(case, t):
@@ -101,7 +103,7 @@ def test_parallel_strategies_are_parallel(dtype):
     # Both zeros occur, and the sign of the zero is kept through the binding.
     for sign in (1.0, -1.0):
         found = find(rs.aabb_parallel(dtype),
-                     lambda c: any(x == 0 and math.copysign(1.0, x) == sign for x in c.ray.direction))
+                     lambda c: any(x == 0 and math.copysign(1.0, x) == sign for x in c.ray.direction), settings=SEARCH)
         assert any(x == 0 and math.copysign(1.0, x) == sign for x in found.ray.direction)
 
 
@@ -124,7 +126,7 @@ def test_sphere_far_small_is_far_small_and_aimed_within_ulps(dtype):
     check()
     # Hard in both directions: the aim decides, within ulps, whether it hits.
     for v in (rp.Verdict.hit, rp.Verdict.miss):
-        found = find(rs.sphere_far_small(dtype), lambda c: rp.verdict(c.ray, c.shape, rp.certified) == v)
+        found = find(rs.sphere_far_small(dtype), lambda c: rp.verdict(c.ray, c.shape, rp.certified) == v, settings=SEARCH)
         assert (rp.verdict(found.ray, found.shape, rp.certified) == rp.Verdict.hit) == exact.SphereExact(
             found.ray, found.shape).hits()
 
