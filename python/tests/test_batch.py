@@ -33,6 +33,7 @@ def test_batch_equals_scalar(shape, dtype, mode):
         assert o.dtype == np.dtype(dtype)
         scalar = [rp.intersect(r, target, mode) for r in rays]
         batch = rp.intersect_batch(o, d, target, mode, lo, hi)
+        assert batch.t_enter.dtype == np.dtype(dtype) and batch.t_exit.dtype == np.dtype(dtype)
         assert [int(h.verdict) for h in scalar] == batch.verdict.tolist()
         assert (bits([h.t_enter for h in scalar], dtype) == bits(batch.t_enter, dtype)).all()
         assert (bits([h.t_exit for h in scalar], dtype) == bits(batch.t_exit, dtype)).all()
