@@ -42,8 +42,11 @@ template <class T> std::string type_name(const char* stem) {
 // query runs on float32 numbers exactly as given and a float64 one never on float32
 // data by accident.
 template <class T> void refuse_other_width(py::handle h, const char* what) {
-    if (!py::hasattr(h, "dtype")) return;
-    const py::dtype dt = py::reinterpret_borrow<py::object>(h).attr("dtype").cast<py::dtype>();
+    // NumPy arrays and NumPy scalars only (other objects with a dtype are converted).
+    const bool array = py::isinstance<py::array>(h);
+    if (!array && !py::isinstance(h, py::module_::import("numpy").attr("generic"))) return;
+    const py::dtype dt = array ? py::reinterpret_borrow<py::array>(h).dtype()
+                               : py::reinterpret_borrow<py::object>(h).attr("dtype").cast<py::dtype>();
     if (dt.kind() == 'f' && dt.itemsize() != static_cast<py::ssize_t>(sizeof(T)))
         throw py::type_error(std::string(what) + " is float" + std::to_string(8 * dt.itemsize()) + " but this is a float" +
                              std::to_string(8 * sizeof(T)) + " type: convert it explicitly");
