@@ -11,6 +11,7 @@ RAYPROOF_PACKAGES=(
   libgtest-dev librapidcheck-dev libbenchmark-dev
   nlohmann-json3-dev libpng-dev libembree-dev
   povray gnuplot-nox pkg-config
+  pybind11-dev python3-dev python3-numpy python3-hypothesis python3-pytest
 )
 
 install_missing() {
