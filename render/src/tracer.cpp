@@ -8,12 +8,13 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <condition_variable>
 #include <cstdio>
+#include <future>
 #include <limits>
-#include <mutex>
-#include <type_traits>
+#include <string>
 #include <thread>
+#include <type_traits>
+#include <vector>
 
 namespace rayproof::render {
 
@@ -341,67 +342,56 @@ template <class M> Color pixel(Tracer<M>& tr, const Scene& s, int x, int y, Stat
     return sum / double(n * n);
 }
 
-void draw_progress(double fraction, double seconds) {
-    constexpr int width = 40;
-    const int filled = int(fraction * width);
-    char bar[width + 1];
-    for (int i = 0; i < width; ++i) bar[i] = i < filled ? '#' : '.';
-    bar[width] = 0;
-    std::fprintf(stderr, "\rrendering [%s] %3d%% %6.1fs", bar, int(fraction * 100), seconds);
-    std::fflush(stderr);
-}
-
+// Each of opt.threads threads (every hardware thread by default, never more than rows)
+// renders the next row not yet taken until none is left. A pixel depends on the scene
+// alone, so the image is the same for any number of threads; each thread counts into its
+// own Stats, summed once all have finished.
 template <class M> RenderResult render_in(const Scene& s, const RenderOptions& opt) {
+    using clock = std::chrono::steady_clock;
     RenderResult res;
     const int w = s.settings.width, h = s.settings.height;
     res.image = Image(w, h);
-    int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
-    threads = std::min(threads, h);
+    const int all = int(std::max(1u, std::thread::hardware_concurrency()));
+    res.threads = std::max(0, std::min(opt.threads > 0 ? opt.threads : all, h));
+    std::vector<Stats> stats(std::size_t(res.threads));
     std::atomic<int> next_row{0}, rows_done{0};
-    std::vector<Stats> stats(static_cast<std::size_t>(threads));
-    std::mutex mu;
-    std::condition_variable cv;
-    const auto t0 = std::chrono::steady_clock::now();
-
-    auto work = [&](int k) {
-        Stats& st = stats[std::size_t(k)];
-        Tracer<M> tr(s, opt.trace, st);
-        for (int y; (y = next_row.fetch_add(1)) < h;) {
-            for (int x = 0; x < w; ++x) {
-                const Color c = pixel(tr, s, x, y, st);
-                std::uint8_t* px = res.image.at(x, y);
-                for (int ch = 0; ch < 3; ++ch) px[ch] = to_byte(c[ch]);
-            }
-            if (rows_done.fetch_add(1) + 1 == h) {
-                std::lock_guard<std::mutex> lock(mu);
-                cv.notify_all();
-            }
-        }
-    };
+    std::promise<void> finished;  // set with the last row
+    const std::future<void> done = finished.get_future();
+    const auto t0 = clock::now();
     std::vector<std::thread> pool;
-    for (int k = 1; k < threads; ++k) pool.emplace_back(work, k);
-    if (opt.progress) {
-        std::thread main_worker(work, 0);
-        bool shown = false;
-        std::unique_lock<std::mutex> lock(mu);
-        while (!cv.wait_for(lock, std::chrono::milliseconds(100), [&] { return rows_done.load() == h; })) {
-            const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            if (sec > 1) {
-                draw_progress(double(rows_done.load()) / h, sec);
-                shown = true;
+    for (std::size_t k = 0; k < stats.size(); ++k)
+        pool.emplace_back([&, k] {
+            Stats st;
+            Tracer<M> tr(s, opt.trace, st);
+            for (int y; (y = next_row++) < h;) {
+                for (int x = 0; x < w; ++x) {
+                    const Color c = pixel(tr, s, x, y, st);
+                    std::uint8_t* px = res.image.at(x, y);
+                    for (int ch = 0; ch < 3; ++ch) px[ch] = to_byte(c[ch]);
+                }
+                if (++rows_done == h) finished.set_value();
             }
-        }
-        lock.unlock();
-        main_worker.join();
+            stats[k] = st;
+        });
+    if (opt.progress && h > 0) {
+        // A bar on stderr, redrawn every 100 ms once the render has lasted a second.
+        bool shown = false;
+        const auto show = [&] {
+            const double sec = std::chrono::duration<double>(clock::now() - t0).count();
+            if (!shown && sec <= 1) return;
+            shown = true;
+            const int done_rows = rows_done, filled = done_rows * 40 / h;
+            const std::string bar = std::string(std::size_t(filled), '#') + std::string(std::size_t(40 - filled), '.');
+            std::fprintf(stderr, "\rrendering [%s] %3d%% %6.1fs", bar.c_str(), done_rows * 100 / h, sec);
+        };
+        while (done.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) show();
         if (shown) {
-            draw_progress(1, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+            show();
             std::fputc('\n', stderr);
         }
-    } else {
-        work(0);
     }
-    for (auto& t : pool) t.join();
-    res.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (std::thread& t : pool) t.join();
+    res.seconds = std::chrono::duration<double>(clock::now() - t0).count();
     for (const Stats& st : stats) res.stats += st;
     return res;
 }

@@ -59,7 +59,7 @@ struct Stats {
 };
 
 struct RenderOptions {
-    int threads = 0;        // 0: every hardware thread
+    int threads = 0;        // threads rendering rows (0: every hardware thread), never more than rows
     bool progress = false;  // draw a progress bar on stderr if the render lasts over a second
     TraceOptions trace;
 };
@@ -68,9 +68,11 @@ struct RenderResult {
     Image image;
     Stats stats;
     double seconds = 0;
+    int threads = 0;  // the threads that rendered it: RenderOptions::threads, at most the rows
 };
 
-// Renders scene.settings.width × height pixels in scene.settings.mode.
+// Renders scene.settings.width × height pixels in scene.settings.mode, the rows shared
+// out among the threads. The image and the counts are the same for any number of threads.
 RenderResult render(const Scene& scene, const RenderOptions& options = {});
 
 // The primary ray through image point (px, py), in pixel units with y pointing down:
