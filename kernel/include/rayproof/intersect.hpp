@@ -13,10 +13,27 @@
 
 #include <concepts>
 #include <cstddef>
+#include <cstdio>
+#include <cstdlib>
 #include <span>
 #include <stdexcept>
 
 namespace rayproof {
+
+namespace detail {
+// A batch form's precondition failed (out.size() != rays.size()): throws
+// std::invalid_argument(what) when exceptions are enabled; compiled with them disabled
+// (-fno-exceptions, no __cpp_exceptions), prints `what` on stderr and calls std::abort.
+[[noreturn]] inline void batch_size_mismatch(const char* what) {
+#if defined(__cpp_exceptions)
+    throw std::invalid_argument(what);
+#else
+    std::fputs(what, stderr);
+    std::fputc('\n', stderr);
+    std::abort();
+#endif
+}
+}  // namespace detail
 
 // True when the kernel answers this combination: every shape, scalar type and mode the
 // contract names.
@@ -35,12 +52,14 @@ RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, M
 }
 
 // Batch form: out[i] = intersect(rays[i], shape, mode). The shape is validated and
-// prepared once. Precondition, checked: out.size() == rays.size() (std::invalid_argument).
+// prepared once. Precondition, checked: out.size() == rays.size(); otherwise it throws
+// std::invalid_argument, or, built without exceptions, prints a message on stderr and
+// aborts (detail::batch_size_mismatch).
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 void intersect(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::span<Hit<T>> out) {
     if (out.size() != rays.size())
-        throw std::invalid_argument("rayproof::intersect: out.size() must equal rays.size()");
+        detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
     const auto prepared = detail::prepare(shape);
     for (std::size_t i = 0; i < rays.size(); ++i) out[i] = detail::query(rays[i], prepared, mode);
 }
@@ -68,12 +87,12 @@ RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mo
 }
 
 // Batch form: out[i] = verdict(rays[i], shape, mode), the shape prepared once.
-// Precondition, checked: out.size() == rays.size() (std::invalid_argument).
+// Precondition, checked as in the batch intersect: out.size() == rays.size().
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 void verdict(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::span<Verdict> out) {
     if (out.size() != rays.size())
-        throw std::invalid_argument("rayproof::verdict: out.size() must equal rays.size()");
+        detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
     const auto prepared = detail::prepare(shape);
     for (std::size_t i = 0; i < rays.size(); ++i) out[i] = detail::verdict_query(rays[i], prepared, mode);
 }
