@@ -13,20 +13,20 @@
 
 namespace rayproof {
 
-template <class T> Vec3<T> normal(const Aabb<T>&, const Hit<T>& h, const Ray<T>&) {
+template <class T> [[nodiscard]] Vec3<T> normal(const Aabb<T>&, const Hit<T>& h, const Ray<T>&) noexcept {
     Vec3<T> n = Vec3<T>::Zero();
     if (h.verdict != Verdict::hit || h.face < 0 || h.face > 5) return n;
     n[h.face / 2] = (h.face % 2) ? T(1) : T(-1);
     return n;
 }
 
-template <class T> Vec3<T> normal(const Obb<T>& b, const Hit<T>& h, const Ray<T>&) {
+template <class T> [[nodiscard]] Vec3<T> normal(const Obb<T>& b, const Hit<T>& h, const Ray<T>&) noexcept {
     if (h.verdict != Verdict::hit || h.face < 0 || h.face > 5) return Vec3<T>::Zero();
     const Vec3<T> a = b.axes.col(h.face / 2).normalized();
     return (h.face % 2) ? a : Vec3<T>(-a);
 }
 
-template <class T> Vec3<T> normal(const Sphere<T>& s, const Hit<T>& h, const Ray<T>& r) {
+template <class T> [[nodiscard]] Vec3<T> normal(const Sphere<T>& s, const Hit<T>& h, const Ray<T>& r) noexcept {
     if (h.verdict != Verdict::hit) return Vec3<T>::Zero();
     const Vec3<T> v = r.origin + h.t_enter * r.direction - s.center;
     const T len = v.norm();
@@ -34,7 +34,7 @@ template <class T> Vec3<T> normal(const Sphere<T>& s, const Hit<T>& h, const Ray
     return -r.direction.normalized();
 }
 
-template <class T> Vec3<T> normal(const Plane<T>& p, const Hit<T>& h, const Ray<T>& r) {
+template <class T> [[nodiscard]] Vec3<T> normal(const Plane<T>& p, const Hit<T>& h, const Ray<T>& r) noexcept {
     if (h.verdict != Verdict::hit) return Vec3<T>::Zero();
     const Vec3<T> n = p.normal.normalized();
     return n.dot(r.direction) > 0 ? Vec3<T>(-n) : n;
