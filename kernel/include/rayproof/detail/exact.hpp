@@ -647,11 +647,11 @@ template <class T, class E> std::optional<T> quotient(const E& num, const E& den
     const long e = an.exp - ad.exp;
     T q;
     if (e > kMaxExp + 1) {
-        q = std::copysign(kMax, static_cast<T>(m));  // |quotient| > 2^(kMaxExp+1)·(1 − 2^-49)
+        q = std::copysign(kMax, narrow<T>(m));  // |quotient| > 2^(kMaxExp+1)·(1 − 2^-49)
     } else if (e < kMinExp - 2) {
         q = 0;  // |quotient| < 2^(kMinExp−2)·(1 + 2^-49)
     } else {
-        q = std::ldexp(static_cast<T>(m), static_cast<int>(e));
+        q = std::ldexp(narrow<T>(m), static_cast<int>(e));
         if (std::isinf(q)) q = std::copysign(kMax, q);
     }
     // Step towards the quotient one T at a time until it is bracketed.
