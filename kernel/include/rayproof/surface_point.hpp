@@ -24,9 +24,10 @@
 // finite (overflow, or t = ±inf for a ray lying in the plane): error is +inf in every
 // component and n is zero.
 //
-// Each computed bound is rounded upwards: a sum or product of k non-negative computed
-// terms is at least the exact one times (1 - u)^k, and round_up(x, k) = fl(x·(1 + 2(k+1)u))
-// multiplies it back above (1 - u)^(k+1)·(1 + 2(k+1)u) >= 1. eta, the smallest normal
+// Each computed bound is rounded upwards: a non-negative expression computed with k
+// roundings (sums and products of non-negative terms) is at least its exact value times
+// (1 - u)^k, and round_up(x, k) = fl(x·(1 + 2(k+1)u)) brings it back above, by the
+// factor (1 - u)^(k+1)·(1 + 2(k+1)u) >= 1. eta, the smallest normal
 // T, covers operations whose results fall into the subnormal range (each off by at most
 // half the smallest subnormal, in absolute terms) and is added once per bound.
 // gamma(n) = n·u/(1 - n·u) bounds n successive roundings (detail/rounding.hpp).
@@ -35,10 +36,11 @@
 // has |(y - p)·n| <= Σ|n_i|·error_i, so moving p that far along n carries it past the
 // plane through x with normal n. n is the computed unit normal (detail::unit_vector in
 // normal.hpp; for the sphere made from vs/l, two more roundings), whose components
-// differ from the exact unit normal's by at most gamma(6) relative and keep their signs, and it enters twice (in the offset and in the
-// direction moved); with a plane a·y = h and a residual bound G (G/|a_k| <= error_k),
-// the exact residual at the new origin q, on n's side, is at least
-//     -G + (1 - u)·dist·Σ|n_i||a_i|  >=  G·(-1 + (1 + 63u)(1 - u)(1 - gamma(6))^4 - 3u)  >  0,
+// differ from the exact unit normal's by at most gamma(6) relative and keep their
+// signs, and it enters twice (in the offset and in the direction moved); with a plane
+// a·y = h and a residual bound G (G/|a_k| <= error_k), the exact residual at the new
+// origin q, on n's side, is at least
+//     -G + (1 - u)·dist·Σ|n_i||a_i| >= G·(-1 + (1 + 63u)(1 - u)(1 - gamma(6))^4 - 3u) > 0,
 // with dist >= (1 + 63u)(1 - gamma(6))·G/|a| the offset after the roundings of its own
 // sum (the factor (1 + 64u), exactly representable, keeps more than 1 + 63u of itself
 // through them), and 3u for the components whose fl(dist·n_i) underflows (|n_i| <
@@ -47,10 +49,10 @@
 // (at most 3·2^-1075) irrelevant. The same inequalities, with the tangent plane of the
 // sphere at x, put an origin spawned on the outer side of a sphere strictly outside the
 // ball (the ball lies behind each of its tangent planes), and one spawned on the inner
-// side strictly behind the tangent plane at x; for a sphere that is large against the
-// offset and the spacing of the floats around p that is inside the ball, but that is
-// not promised (the one-float steps below can move a coordinate sideways by more than
-// the radius of a small sphere far from the origin).
+// side strictly behind the tangent plane at x. That puts it inside the ball when the
+// sphere is large against the offset and against the spacing of the floats around p,
+// but it is not promised (the one-float steps below can move a coordinate sideways by
+// more than the radius of a small sphere far from the origin).
 // offset_origin(p, n, dist) moves each coordinate by fl(dist·n_i) and one float further
 // in the direction of n_i (pbrt-v4's OffsetRayOrigin): the step makes q_i exceed the
 // unrounded p_i + fl(dist·n_i) strictly (in the direction of n_i), so (q - p)_i·n_i >
