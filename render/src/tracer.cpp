@@ -147,27 +147,16 @@ private:
         return sp;
     }
 
+    // The kernel's surface point (rayproof/surface_point.hpp) at c.t, its bound E as the
+    // kernel's spawn offset, and the margin K of tracer.hpp on top.
     SurfacePoint at(const Sphere<double>& s, const Rayd& ray, const Candidate& c) {
+        Hitd h = c.hit;
+        h.t_enter = c.t;  // the point where the ray meets the surface (t_exit from inside)
+        const rayproof::SurfacePoint<double> k = surface_point(ray, s, h);
         SurfacePoint sp;
-        const Vec3d p0 = ray.origin + c.t * ray.direction;
-        const Vec3d v = p0 - s.center;
-        const double len = v.norm();
-        if (s.radius > 0 && len > 0 && std::isfinite(len)) {
-            const Vec3d vr = v * (s.radius / len);
-            sp.p = s.center + vr;
-            sp.n = vr.normalized();
-            double e = 0;
-            for (int i = 0; i < 3; ++i)
-                e += std::abs(sp.n[i]) * gamma_bound(6) * (std::abs(s.center[i]) + std::abs(vr[i]));
-            sp.offset = e + gamma_bound(24) * s.radius;
-        } else {  // a point sphere, or the hit point rounded onto the centre
-            sp.p = p0;
-            sp.n = -ray.direction.normalized();
-            double e = 0;
-            for (int i = 0; i < 3; ++i)
-                e += gamma_bound(4) * (std::abs(ray.origin[i]) + std::abs(c.t * ray.direction[i]));
-            sp.offset = e;
-        }
+        sp.p = k.p;
+        sp.n = k.n;
+        sp.offset = spawn_offset(k) + gamma_bound(24) * s.radius;
         return sp;
     }
 
@@ -204,56 +193,41 @@ private:
         return best;
     }
 
-    // The face's point p brought onto the face where the box allows it, and its offset
-    // E + K (tracer.hpp). Aabb: the coordinate on the face's axis is set to lo or hi
-    // exactly (E = 0, K = 0); the exact hit point lies on the face, so clamping the other
-    // coordinates into the face's rectangle can only bring p closer to it (it matters at
-    // edges, where a conservative t_exit may overshoot into the neighbouring slab).
-    static double onto_face(const Aabb<double>& b, int face, Vec3d& p) {
-        const int axis = face / 2;
-        p[axis] = (face % 2) ? b.hi[axis] : b.lo[axis];
-        for (int j = 0; j < 3; ++j)
-            if (j != axis) p[j] = std::clamp(p[j], b.lo[j], b.hi[j]);
-        return 0;
-    }
-    // Obb: p stays; E and K a posteriori from the residual (p - c)·a - h.
-    static double onto_face(const Obb<double>& b, int face, Vec3d& p) {
-        const int axis = face / 2;
-        const Vec3d a = b.axes.col(axis);
-        const double hh = (face % 2) ? b.half_extent[axis] : -b.half_extent[axis];
+    // The margin K of tracer.hpp for a box face at p: Aabb 0; Obb gamma(12)·Σ_j|(p - c)_j·a_j|
+    // / |a|, a the face's column.
+    static double margin(const Aabb<double>&, int, const Vec3d&) { return 0; }
+    static double margin(const Obb<double>& b, int face, const Vec3d& p) {
+        const Vec3d a = b.axes.col(face / 2);
         const Vec3d pc = p - b.center;
-        const double g = pc.dot(a) - hh;
         const double terms = std::abs(pc[0] * a[0]) + std::abs(pc[1] * a[1]) + std::abs(pc[2] * a[2]);
-        const double len = a.norm();
-        const double e = (std::abs(g) + gamma_bound(5) * (terms + std::abs(hh))) / len;
-        const double k = gamma_bound(12) * terms / len;
-        return e + k;
+        return gamma_bound(12) * terms / a.norm();
     }
 
-    // A box's surface point: on the face box_face names, at its t_enter.
+    // A box's surface point: on the face box_face names, at its t_enter (the kernel brings
+    // an Aabb's point onto the face exactly, E = 0, and bounds an Obb's a posteriori).
     template <class Box>
         requires std::is_same_v<Box, Aabb<double>> || std::is_same_v<Box, Obb<double>>
     SurfacePoint at(const Box& b, const Rayd& ray, const Candidate& c) {
         const auto [h, r] = box_face(b, ray, c);
+        const rayproof::SurfacePoint<double> k = surface_point(r, b, h);
         SurfacePoint sp;
-        sp.p = r.origin + h.t_enter * r.direction;
-        sp.offset = onto_face(b, h.face, sp.p);
-        sp.n = rayproof::normal(b, h, r);
+        sp.p = k.p;
+        sp.n = k.n;
+        sp.offset = spawn_offset(k) + margin(b, h.face, sp.p);
         return sp;
     }
 
     SurfacePoint at(const Plane<double>& pl, const Rayd& ray, const Candidate& c) {
+        Hitd h = c.hit;
+        h.t_enter = c.t;
+        const rayproof::SurfacePoint<double> k = surface_point(ray, pl, h);
         SurfacePoint sp;
-        sp.p = ray.origin + c.t * ray.direction;
-        sp.n = rayproof::normal(pl, c.hit, ray);
+        sp.p = k.p;
+        sp.n = k.n;
         const Vec3d& n = pl.normal;
-        const double g = n.dot(sp.p) - pl.offset;
         const double terms =
             std::abs(n[0] * sp.p[0]) + std::abs(n[1] * sp.p[1]) + std::abs(n[2] * sp.p[2]) + std::abs(pl.offset);
-        const double len = n.norm();
-        const double e = (std::abs(g) + gamma_bound(5) * terms) / len;
-        const double k = gamma_bound(12) * terms / len;
-        sp.offset = e + k;
+        sp.offset = spawn_offset(k) + gamma_bound(12) * terms / n.norm();
         return sp;
     }
 
@@ -442,16 +416,6 @@ Ray<double> camera_ray(const Camera& cam, int width, int height, double px, doub
     const double sx = (2 * px / width - 1) * tan_half * (double(width) / height);
     const double sy = (1 - 2 * py / height) * tan_half;
     return Ray<double>{cam.position, f + sx * r + sy * u, 0, inf};
-}
-
-Vec3d offset_origin(const Vec3d& p, const Vec3d& n, double dist) {
-    Vec3d q;
-    for (int i = 0; i < 3; ++i) {
-        q[i] = p[i] + dist * n[i];
-        if (n[i] > 0) q[i] = std::nextafter(q[i], inf);
-        else if (n[i] < 0) q[i] = std::nextafter(q[i], -inf);
-    }
-    return q;
 }
 
 double underflow_floor(const Vec3d& p, const Vec3d& d) {

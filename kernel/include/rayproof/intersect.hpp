@@ -13,10 +13,27 @@
 
 #include <concepts>
 #include <cstddef>
+#include <cstdio>
+#include <cstdlib>
 #include <span>
 #include <stdexcept>
 
 namespace rayproof {
+
+namespace detail {
+// A batch form's precondition failed (out.size() != rays.size()): throws
+// std::invalid_argument(what) when exceptions are enabled; compiled with them disabled
+// (-fno-exceptions, no __cpp_exceptions), prints `what` on stderr and calls std::abort.
+[[noreturn]] inline void batch_size_mismatch(const char* what) {
+#if defined(__cpp_exceptions)
+    throw std::invalid_argument(what);
+#else
+    std::fputs(what, stderr);
+    std::fputc('\n', stderr);
+    std::abort();
+#endif
+}
+}  // namespace detail
 
 // True when the kernel answers this combination: every shape, scalar type and mode the
 // contract names.
@@ -30,17 +47,19 @@ concept Answerable = is_scalar_v<T> && is_shape_v<Shape, T> && is_mode_v<Mode> &
 // (a Hit returned through memory and copied whole stalls on store-to-load forwarding).
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
-RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode) {
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
     return detail::query(ray, detail::prepare(shape), mode);
 }
 
 // Batch form: out[i] = intersect(rays[i], shape, mode). The shape is validated and
-// prepared once. Precondition, checked: out.size() == rays.size() (std::invalid_argument).
+// prepared once. Precondition, checked: out.size() == rays.size(); otherwise it throws
+// std::invalid_argument, or, built without exceptions, prints a message on stderr and
+// aborts (detail::batch_size_mismatch).
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 void intersect(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::span<Hit<T>> out) {
     if (out.size() != rays.size())
-        throw std::invalid_argument("rayproof::intersect: out.size() must equal rays.size()");
+        detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
     const auto prepared = detail::prepare(shape);
     for (std::size_t i = 0; i < rays.size(); ++i) out[i] = detail::query(rays[i], prepared, mode);
 }
@@ -49,7 +68,7 @@ namespace detail {
 // The verdict alone, for shapes and modes without a verdict path of their own: the full
 // query's verdict (the rest of its answer is dead code the compiler drops where it can).
 template <class T, class Prepared, class Mode>
-RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const Prepared& p, Mode mode) {
+RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const Prepared& p, Mode mode) noexcept {
     return query(r, p, mode).verdict;
 }
 }  // namespace detail
@@ -63,17 +82,17 @@ RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const Prepared& p,
 // rest to the full query's stages, so the two cannot disagree.
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
-RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mode mode) {
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
     return detail::verdict_query(ray, detail::prepare(shape), mode);
 }
 
 // Batch form: out[i] = verdict(rays[i], shape, mode), the shape prepared once.
-// Precondition, checked: out.size() == rays.size() (std::invalid_argument).
+// Precondition, checked as in the batch intersect: out.size() == rays.size().
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 void verdict(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::span<Verdict> out) {
     if (out.size() != rays.size())
-        throw std::invalid_argument("rayproof::verdict: out.size() must equal rays.size()");
+        detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
     const auto prepared = detail::prepare(shape);
     for (std::size_t i = 0; i < rays.size(); ++i) out[i] = detail::verdict_query(rays[i], prepared, mode);
 }
@@ -81,6 +100,67 @@ void verdict(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::s
 // The same ray traversed backwards: the set { o + s·(-d) : s in [-t_max, -t_min] }.
 // Its interval against a shape is [-t_exit, -t_enter] of the original, and its entry
 // face is the original's exit face (negation is exact, so no accuracy is lost).
-template <class T> Ray<T> reversed(const Ray<T>& r) { return Ray<T>{r.origin, -r.direction, -r.t_max, -r.t_min}; }
+template <class T> [[nodiscard]] Ray<T> reversed(const Ray<T>& r) noexcept {
+    return Ray<T>{r.origin, -r.direction, -r.t_max, -r.t_min};
+}
+
+// --- The mode chosen at run time --------------------------------------------------------
+// Each form below dispatches to the same form with the tag of that name, so its answer
+// is the tag's, bit for bit. A RuntimeMode outside the three enumerators is invalid
+// input: Verdict::invalid (every element, in the batch forms).
+
+// True when the kernel answers this combination in every mode.
+template <class T, class Shape>
+concept AnswerableAtRunTime = Answerable<T, Shape, fast_t> && Answerable<T, Shape, conservative_t> &&
+                              Answerable<T, Shape, certified_t>;
+
+template <class T, class Shape>
+    requires AnswerableAtRunTime<T, Shape>
+[[nodiscard]] Hit<T> intersect(const Ray<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
+    switch (mode) {
+        case RuntimeMode::fast: return intersect(ray, shape, fast);
+        case RuntimeMode::conservative: return intersect(ray, shape, conservative);
+        case RuntimeMode::certified: return intersect(ray, shape, certified);
+    }
+    return detail::invalid_hit<T>();
+}
+
+template <class T, class Shape>
+    requires AnswerableAtRunTime<T, Shape>
+[[nodiscard]] Verdict verdict(const Ray<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
+    switch (mode) {
+        case RuntimeMode::fast: return verdict(ray, shape, fast);
+        case RuntimeMode::conservative: return verdict(ray, shape, conservative);
+        case RuntimeMode::certified: return verdict(ray, shape, certified);
+    }
+    return Verdict::invalid;
+}
+
+// Batch forms; the same precondition, checked the same way, as the tag forms.
+template <class T, class Shape>
+    requires AnswerableAtRunTime<T, Shape>
+void intersect(std::span<const Ray<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Hit<T>> out) {
+    switch (mode) {
+        case RuntimeMode::fast: return intersect(rays, shape, fast, out);
+        case RuntimeMode::conservative: return intersect(rays, shape, conservative, out);
+        case RuntimeMode::certified: return intersect(rays, shape, certified, out);
+    }
+    if (out.size() != rays.size())
+        detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
+    for (Hit<T>& h : out) h = detail::invalid_hit<T>();
+}
+
+template <class T, class Shape>
+    requires AnswerableAtRunTime<T, Shape>
+void verdict(std::span<const Ray<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Verdict> out) {
+    switch (mode) {
+        case RuntimeMode::fast: return verdict(rays, shape, fast, out);
+        case RuntimeMode::conservative: return verdict(rays, shape, conservative, out);
+        case RuntimeMode::certified: return verdict(rays, shape, certified, out);
+    }
+    if (out.size() != rays.size())
+        detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
+    for (Verdict& v : out) v = Verdict::invalid;
+}
 
 }  // namespace rayproof

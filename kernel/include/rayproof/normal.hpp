@@ -6,37 +6,60 @@
 // reversed(ray) for the exit face. Sphere: (p - c)/|p - c| at p = o + t_enter·d (for a
 // point sphere, or p == c, the direction opposing the ray). Plane: the unit normal
 // facing the ray's origin side (against d; for a ray lying in the plane, n itself).
-// A hit that is not Verdict::hit gives the zero vector.
+// A hit that is not Verdict::hit gives the zero vector. Unit vectors are made by
+// detail::unit_vector (scaled exactly by a power of two first), so a normal or a
+// direction with tiny, subnormal or huge components still gives a unit vector.
 #pragma once
 
 #include <rayproof/types.hpp>
 
+#include <cmath>
+
 namespace rayproof {
 
-template <class T> Vec3<T> normal(const Aabb<T>&, const Hit<T>& h, const Ray<T>&) {
+namespace detail {
+// v/|v| for v != 0 with finite components (the zero vector stays zero): v is scaled by
+// 2^-e, e the exponent of its largest |component|, which is exact (a component scaled
+// into the subnormal range loses bits below 2^-1022 of the largest, far below its
+// rounding), so the largest lands in [1/2, 1) and neither the squares nor the norm can
+// overflow or underflow; then Eigen's normalized(): three products and two sums (gamma(3)
+// on the squared norm), a square root and a division, so each component is within
+// gamma(4) (relative) of the exact unit vector's, with its sign.
+template <class T> [[nodiscard]] Vec3<T> unit_vector(const Vec3<T>& v) noexcept {
+    const T m = v.cwiseAbs().maxCoeff();
+    if (!(m > 0) || !std::isfinite(m)) return v.normalized();
+    int e = 0;
+    (void)std::frexp(m, &e);
+    Vec3<T> s;
+    for (int i = 0; i < 3; ++i) s[i] = std::ldexp(v[i], -e);
+    return s.normalized();
+}
+}  // namespace detail
+
+template <class T> [[nodiscard]] Vec3<T> normal(const Aabb<T>&, const Hit<T>& h, const Ray<T>&) noexcept {
     Vec3<T> n = Vec3<T>::Zero();
     if (h.verdict != Verdict::hit || h.face < 0 || h.face > 5) return n;
     n[h.face / 2] = (h.face % 2) ? T(1) : T(-1);
     return n;
 }
 
-template <class T> Vec3<T> normal(const Obb<T>& b, const Hit<T>& h, const Ray<T>&) {
+template <class T> [[nodiscard]] Vec3<T> normal(const Obb<T>& b, const Hit<T>& h, const Ray<T>&) noexcept {
     if (h.verdict != Verdict::hit || h.face < 0 || h.face > 5) return Vec3<T>::Zero();
-    const Vec3<T> a = b.axes.col(h.face / 2).normalized();
+    const Vec3<T> a = detail::unit_vector<T>(b.axes.col(h.face / 2));
     return (h.face % 2) ? a : Vec3<T>(-a);
 }
 
-template <class T> Vec3<T> normal(const Sphere<T>& s, const Hit<T>& h, const Ray<T>& r) {
+template <class T> [[nodiscard]] Vec3<T> normal(const Sphere<T>& s, const Hit<T>& h, const Ray<T>& r) noexcept {
     if (h.verdict != Verdict::hit) return Vec3<T>::Zero();
     const Vec3<T> v = r.origin + h.t_enter * r.direction - s.center;
     const T len = v.norm();
     if (len > 0 && std::isfinite(len)) return v / len;
-    return -r.direction.normalized();
+    return detail::unit_vector<T>(-r.direction);
 }
 
-template <class T> Vec3<T> normal(const Plane<T>& p, const Hit<T>& h, const Ray<T>& r) {
+template <class T> [[nodiscard]] Vec3<T> normal(const Plane<T>& p, const Hit<T>& h, const Ray<T>& r) noexcept {
     if (h.verdict != Verdict::hit) return Vec3<T>::Zero();
-    const Vec3<T> n = p.normal.normalized();
+    const Vec3<T> n = detail::unit_vector(p.normal);
     return n.dot(r.direction) > 0 ? Vec3<T>(-n) : n;
 }
 

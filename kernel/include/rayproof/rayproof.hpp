@@ -5,6 +5,8 @@
 //   rayproof::Aabb<double> box{{-1, -1, -1}, {1, 1, 1}};
 //   auto hit = rayproof::intersect(ray, box, rayproof::certified);
 //   if (hit) use(hit.t_enter, hit.face, rayproof::normal(box, hit, ray));
+//   auto sp = rayproof::surface_point(ray, box, hit);     // the point, its error bound
+//   auto origin = rayproof::spawn_origin(sp, +1);         // a secondary ray's origin
 //
 // Meaning of every answer: docs/semantics.md. One header per query pair below; the
 // internals live in detail/. Every header here stands alone (any order compiles).
@@ -17,5 +19,6 @@
 #include <rayproof/ray_obb.hpp>
 #include <rayproof/ray_plane.hpp>
 #include <rayproof/ray_sphere.hpp>
+#include <rayproof/surface_point.hpp>
 #include <rayproof/types.hpp>
 #include <rayproof/version.hpp>

@@ -13,7 +13,9 @@
 #include <Eigen/Core>
 
 #include <limits>
+#include <optional>
 #include <ostream>
+#include <string_view>
 #include <type_traits>
 
 namespace rayproof {
@@ -55,8 +57,15 @@ template <class T> struct Hit {
     Verdict verdict = Verdict::miss;
     T t_enter = 0, t_exit = 0;  // meaningful when verdict == hit
     int face = -1;              // boxes: entry face 2*axis + side (0: lo / -axis, 1: hi / +axis); -1 otherwise
-    explicit operator bool() const { return verdict == Verdict::hit; }
+    [[nodiscard]] explicit operator bool() const noexcept { return verdict == Verdict::hit; }
 };
+
+// The three modes chosen at run time: intersect(ray, shape, RuntimeMode) and
+// verdict(...) (intersect.hpp) dispatch to the tag of the same name below, with the
+// tag's answer bit for bit. A value outside the three enumerators is answered
+// Verdict::invalid. (Declared before the tags: g++ -Wshadow takes an enumerator declared
+// after a namespace-scope variable of the same name for a shadowing declaration.)
+enum class RuntimeMode { fast, conservative, certified };
 
 // Mode tags. `fast`: plain floating point, no promise (error rate measured).
 // `conservative`: never misses an exact hit, [t_enter, t_exit] encloses the exact interval.
@@ -72,7 +81,7 @@ template <class S, class T> inline constexpr bool is_shape_v =
     std::is_same_v<S, Aabb<T>> || std::is_same_v<S, Obb<T>> || std::is_same_v<S, Plane<T>> ||
     std::is_same_v<S, Sphere<T>>;
 
-inline const char* to_string(Verdict v) {
+[[nodiscard]] constexpr const char* to_string(Verdict v) noexcept {
     switch (v) {
         case Verdict::miss: return "miss";
         case Verdict::hit: return "hit";
@@ -80,10 +89,29 @@ inline const char* to_string(Verdict v) {
     }
     return "?";
 }
-inline const char* mode_name(fast_t) { return "fast"; }
-inline const char* mode_name(conservative_t) { return "conservative"; }
-inline const char* mode_name(certified_t) { return "certified"; }
+[[nodiscard]] constexpr const char* mode_name(fast_t) noexcept { return "fast"; }
+[[nodiscard]] constexpr const char* mode_name(conservative_t) noexcept { return "conservative"; }
+[[nodiscard]] constexpr const char* mode_name(certified_t) noexcept { return "certified"; }
+
+// The tag's name ("fast", "conservative", "certified"); "?" outside the three.
+[[nodiscard]] constexpr const char* to_string(RuntimeMode m) noexcept {
+    switch (m) {
+        case RuntimeMode::fast: return mode_name(fast);
+        case RuntimeMode::conservative: return mode_name(conservative);
+        case RuntimeMode::certified: return mode_name(certified);
+    }
+    return "?";
+}
+[[nodiscard]] constexpr const char* mode_name(RuntimeMode m) noexcept { return to_string(m); }
+
+// The mode of that exact name (as to_string prints it, case-sensitive), else nullopt.
+[[nodiscard]] constexpr std::optional<RuntimeMode> parse_mode(std::string_view name) noexcept {
+    for (const RuntimeMode m : {RuntimeMode::fast, RuntimeMode::conservative, RuntimeMode::certified})
+        if (name == to_string(m)) return m;
+    return std::nullopt;
+}
 
 inline std::ostream& operator<<(std::ostream& os, Verdict v) { return os << to_string(v); }
+inline std::ostream& operator<<(std::ostream& os, RuntimeMode m) { return os << to_string(m); }
 
 }  // namespace rayproof

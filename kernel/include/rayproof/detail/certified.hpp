@@ -46,7 +46,7 @@ template <class T> T faithful_to(double t) {
         return t;
     } else {
         constexpr double big = std::numeric_limits<T>::max();
-        return static_cast<T>(std::min(std::max(t, -big), big));
+        return narrow<T>(std::min(std::max(t, -big), big));
     }
 }
 
@@ -149,7 +149,7 @@ template <class T> T round_down_to(double x) {
     if constexpr (std::is_same_v<T, double>) {
         return x;
     } else {
-        const T y = static_cast<T>(x);
+        const T y = narrow<T>(x);
         return double(y) > x ? step_down(y) : y;
     }
 }
@@ -157,7 +157,7 @@ template <class T> T round_up_to(double x) {
     if constexpr (std::is_same_v<T, double>) {
         return x;
     } else {
-        const T y = static_cast<T>(x);
+        const T y = narrow<T>(x);
         return double(y) < x ? step_up(y) : y;
     }
 }
@@ -167,7 +167,7 @@ template <class T> T round_up_to(double x) {
 // (pred m, succ m), so m is one of the two floats enclosing x, and m == x when x is
 // representable. Otherwise nothing is returned.
 template <class T> std::optional<T> faithful_from_enclosure(const Interval<double>& v) {
-    const T m = static_cast<T>(v.mid());
+    const T m = narrow<T>(v.mid());
     if (!std::isfinite(m)) return std::nullopt;
     if (double(step_down(m)) < v.lo && v.hi < double(step_up(m))) return m;
     return std::nullopt;

@@ -71,6 +71,7 @@
 #include <rayproof/detail/rounding.hpp>
 
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace rayproof::detail {
@@ -89,14 +90,14 @@ struct QuotientSums {
     lanes::D2 hi, lo, bound;
     bool ok;
 };
-template <int P>
+template <std::size_t P>
 RAYPROOF_ALWAYS_INLINE QuotientSums quotient_sums(lanes::D2 start, const lanes::D2 (&a)[P], const lanes::D2 (&b)[P],
                                                   lanes::M2 inputs_in_range) {
     using namespace lanes;
     static_assert(P >= 1 && P <= 6);
-    constexpr double K = 2 * gamma<double>(2 * P - 1);
+    constexpr double K = 2 * gamma<double>(2 * static_cast<int>(P) - 1);
     D2 s = start, c = splat(0.0), S = splat(0.0);
-    for (int k = 0; k < P; ++k) {
+    for (std::size_t k = 0; k < P; ++k) {
         const Product q = exact_product(a[k], b[k]);
         const SumOf<D2> x = two_sum(s, q.hi);
         s = x.hi;

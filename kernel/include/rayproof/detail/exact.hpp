@@ -171,6 +171,7 @@ template <int Cap> class Expansion {
 
 public:
     static constexpr int capacity = Cap;
+    static constexpr std::size_t kSlots = static_cast<std::size_t>(Cap);  // array bounds
 
     Expansion() noexcept {}
     Expansion(double x) noexcept : bad_(!std::isfinite(x)) {  // exact
@@ -201,7 +202,7 @@ public:
         if (n_ == 0) return {0.0, 0};
         double top = c_[0], next = 0;
         if (n_ >= 2) {
-            double h[Cap];
+            double h[kSlots];
             std::memcpy(h, c_, sizeof(double) * static_cast<std::size_t>(n_));
             const int k = exact_impl::compress(h, n_);
             top = h[k - 1];
@@ -240,7 +241,7 @@ public:
         const Expansion& l = a.n_ >= b.n_ ? a : b;  // the longer one is scaled
         const Expansion& s = a.n_ >= b.n_ ? b : a;
         bool tiny = false;
-        double buf0[4 * Cap], buf1[4 * Cap], t[2 * Cap];
+        double buf0[4 * kSlots], buf1[4 * kSlots], t[2 * kSlots];
         double* acc = buf0;
         double* nxt = buf1;
         int k = exact_impl::scale(l.c_, l.n_, s.c_[0], acc, tiny);
@@ -284,7 +285,7 @@ private:
         if (a.bad_ || b.bad_) return flagged();
         if (b.n_ == 0) return a;
         if (a.n_ == 0) return s > 0 ? b : -b;
-        double h[2 * Cap];
+        double h[2 * kSlots];
         int k = 0;
         if (a.n_ == 1 && b.n_ == 1) {  // the common case: one two_sum
             const Pair r = two_sum(a.c_[0], s * b.c_[0]);
@@ -296,7 +297,7 @@ private:
         return store(h, k, false);
     }
 
-    double c_[Cap];
+    double c_[kSlots];
     int n_ = 0;
     bool bad_ = false;
 };
@@ -646,11 +647,11 @@ template <class T, class E> std::optional<T> quotient(const E& num, const E& den
     const long e = an.exp - ad.exp;
     T q;
     if (e > kMaxExp + 1) {
-        q = std::copysign(kMax, static_cast<T>(m));  // |quotient| > 2^(kMaxExp+1)·(1 − 2^-49)
+        q = std::copysign(kMax, narrow<T>(m));  // |quotient| > 2^(kMaxExp+1)·(1 − 2^-49)
     } else if (e < kMinExp - 2) {
         q = 0;  // |quotient| < 2^(kMinExp−2)·(1 + 2^-49)
     } else {
-        q = std::ldexp(static_cast<T>(m), static_cast<int>(e));
+        q = std::ldexp(narrow<T>(m), static_cast<int>(e));
         if (std::isinf(q)) q = std::copysign(kMax, q);
     }
     // Step towards the quotient one T at a time until it is bracketed.

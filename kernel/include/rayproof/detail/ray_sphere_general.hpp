@@ -75,7 +75,7 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
             const T g = key_float<T>(k);
             return slope_sign(g) >= 0 || q_sign(g) <= 0;
         };
-        const T guess = static_cast<T>(r0.mid());
+        const T guess = narrow<T>(r0.mid());
         const std::int64_t lo = float_key(r.t_min) == kmin && !std::isinf(r.t_min) ? kmin : kmin - 1;
         // enter(t_max) holds for a finite t_max (t0 <= t_max); for t_max = inf, t0 may
         // lie beyond the largest float, whose enclosing finite neighbour is answered.
@@ -91,7 +91,7 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
             const T g = key_float<T>(k);
             return !(slope_sign(g) <= 0 || q_sign(g) <= 0);
         };
-        const T guess = static_cast<T>(r1.mid());
+        const T guess = narrow<T>(r1.mid());
         const std::int64_t hi = float_key(r.t_max) == kmax && !std::isinf(r.t_max) ? kmax : kmax + 1;
         const bool reached = !std::isinf(r.t_min) || !past(kmin);
         h.t_exit = reached ? key_float<T>(first_true(kmin, hi, std::isfinite(guess) ? float_key(guess) : hi, past) - 1)

@@ -9,6 +9,7 @@
 #include <rayproof/types.hpp>
 
 #include <array>
+#include <cstddef>
 #include <cmath>
 #include <limits>
 
@@ -39,7 +40,7 @@ public:
     SphereResidual(const std::array<double, 3>& o, const std::array<double, 3>& d, const std::array<double, 3>& c,
                    double radius)
         : d_(d), r2_(two_prod(radius, radius)) {
-        for (int j = 0; j < 3; ++j) oc_[j] = two_sum(o[j], -c[j]);
+        for (std::size_t j = 0; j < 3; ++j) oc_[j] = two_sum(o[j], -c[j]);
     }
     struct Value {
         double v, err;  // |q(t) - v| <= err; err = +inf when a guard fails
@@ -47,7 +48,7 @@ public:
     Value value_at(double t) const {
         constexpr double g2 = gamma<double>(2), g13 = gamma<double>(13), u = unit_roundoff<double>;
         double W[3], om[3], A[3], small = -r2_.lo, abs_small = std::abs(r2_.lo), F = 0;
-        for (int j = 0; j < 3; ++j) {
+        for (std::size_t j = 0; j < 3; ++j) {
             const Pair p = two_prod(t, d_[j]);
             const Pair x = two_sum(oc_[j].hi, p.hi);
             W[j] = x.hi;

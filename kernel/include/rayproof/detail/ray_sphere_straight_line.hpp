@@ -161,7 +161,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified
     const double cab = std::abs(d[0] * delta[0]) + std::abs(d[1] * delta[1]) + std::abs(d[2] * delta[2]);
     auto refine = [&](double x, T& g) {
         const SphereResidual::Value qx = res.value_at(x);
-        g = static_cast<T>(x - qx.v / (2 * (a * x + b)));
+        g = narrow<T>(x - qx.v / (2 * (a * x + b)));
         if (g == 0) g = T(0);
         return qx;
     };

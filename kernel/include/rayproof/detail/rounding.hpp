@@ -1,6 +1,6 @@
 // rayproof/detail/rounding.hpp — the rounding primitives every error bound of the kernel
 // is written in: the unit roundoff u, gamma(n), stepping to the adjacent float, and the
-// search over the ordered floats.
+// search over the ordered floats, and narrow, the one conversion to a narrower type.
 //
 // u is the unit roundoff of T (half an ulp of 1): 2^-24 for float, 2^-53 for double.
 // gamma(n) = n·u / (1 − n·u) bounds the relative error of n successive correctly
@@ -18,6 +18,34 @@
 namespace rayproof::detail {
 
 template <class T> inline constexpr T unit_roundoff = std::numeric_limits<T>::epsilon() / 2;
+
+// x converted to T (rounded to nearest): every conversion of the kernel to a narrower
+// floating-point type goes through here (double to float; the test generators use it
+// for integers too). g++ before 13 at -O2 can drop such a rounding when the result is
+// widened again: its SLP vectorizer fuses the conversion and the widening and keeps the
+// unrounded double (docs/compiler-bugs.md). An empty asm statement that takes the
+// rounded value in a floating-point register and gives it back makes the rounded value
+// an input the compiler cannot see through, so the conversion has to happen; it emits no
+// instruction and changes no result. Other compilers and T = the source type get the
+// plain conversion.
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
+#define RAYPROOF_NARROW_BARRIER 1
+#endif
+template <class T, class X> [[nodiscard]] inline T narrow(X x) noexcept {
+    T y = static_cast<T>(x);
+#ifdef RAYPROOF_NARROW_BARRIER
+    if constexpr (!std::is_same_v<T, X>) {
+#if defined(__SSE__)
+        __asm__("" : "+x"(y));
+#elif defined(__aarch64__)
+        __asm__("" : "+w"(y));
+#else
+        __asm__("" : "+m"(y));
+#endif
+    }
+#endif
+    return y;
+}
 
 // gamma(n) = n·u/(1 − n·u) (Higham, ASNA, Lemma 3.1).
 template <class T> constexpr T gamma(int n) {

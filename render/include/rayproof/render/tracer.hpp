@@ -23,10 +23,11 @@
 // transparent plane is a thin sheet that lets rays through undeviated; a ray lying in a
 // plane does not see it.
 //
-// Secondary-ray origins: see offset_distance and offset_origin below (no fixed epsilon).
+// Secondary-ray origins: see SurfacePoint::offset below (no fixed epsilon).
 #pragma once
 
 #include <rayproof/detail/rounding.hpp>
+#include <rayproof/surface_point.hpp>
 #include <rayproof/render/image.hpp>
 #include <rayproof/render/scene.hpp>
 
@@ -38,7 +39,7 @@ namespace rayproof::render {
 
 // How secondary rays leave a surface.
 //   error_bound: the origin is moved off the surface along the normal by a distance
-//                derived from error bounds (see offset_distance), t_min = 0.
+//                derived from error bounds (see SurfacePoint), t_min = 0.
 //   naive:       the origin is the computed point o + t·d, unmoved, and the ray
 //                starts at the fixed t_min `naive_t_min` (unit direction). Kept only
 //                to show, in the tests, the shadow acne it produces.
@@ -98,17 +99,16 @@ struct SurfacePoint {
 };
 
 // offset = E + K, both stated bounds on distances along the normal:
-//   E bounds the distance from the computed p to the exact surface:
-//     Aabb:   0 — the coordinate on the face's axis is set to lo or hi exactly.
-//     Sphere: p = c + v·(r/|v|), v = o + t·d - c (pbrt-v4 6.8.5 reprojection); the
-//             exact c + v·r/|v| lies on the sphere and each computed coordinate is
-//             within γ(6)·(|c_i| + |v'_i|) of it: v'_i = v_i·r/|v| is off by < γ(5)
-//             relative (|v|² carries γ(3), the sqrt halves it and adds one rounding, then
-//             the division and the product one each: 4.5u), and c_i + v'_i adds one
-//             rounding; E = Σ|n_i|·that.
-//     Plane, Obb: a posteriori, from the residual g = n·p - offset (or (p-c)·a - h):
-//             |g_exact - g_computed| <= γ(5)·(Σ|terms| + |offset|), so the distance to the
-//             plane is at most (|g_computed| + that) / |n|.
+//   E is the kernel's spawn offset (rayproof/surface_point.hpp, where each bound is
+//     derived): the hit point comes from rayproof::surface_point, which brings it onto
+//     the surface where the shape allows and bounds per component its distance from a
+//     point exactly on the surface, and rayproof::spawn_offset turns that bound into a
+//     distance along the normal:
+//     Aabb:   only the floor of spawn_offset — the coordinate on the face's axis is set
+//             to lo or hi exactly, the others clamped into the face;
+//     Sphere: p = c + v·(r/|v|), v = o + t·d - c (pbrt-v4 6.8.5 reprojection), within
+//             gamma(7)·(|c_i| + |v'_i|) of a point on the sphere per coordinate;
+//     Plane, Obb: a posteriori, from the residual g = n·p - offset (or (p-c)·a - h).
 //   K keeps the new origin out of the band where the kernel itself, queried again from
 //   there, could still report the surface just left. From the kernel's stated error
 //   models: fast evaluates n operations with relative error γ(n); conservative moves
@@ -124,12 +124,8 @@ struct SurfacePoint {
 // 2^-1074 gives a slab or plane quotient 2^-1074/d that rounds to -0, "hit at t = 0".
 // So the distance moved is at least underflow_floor(p, d) for the new direction d.
 // This is the only distance by which rays leave surfaces; there is no other epsilon.
-
-// Moves p by at least `dist` along the unit vector n: each coordinate becomes
-// p_i + dist·n_i rounded to nearest, then pushed one more ulp away from p_i in the
-// direction of n_i (pbrt-v4 OffsetRayOrigin), so that, whatever the rounding,
-// (q - p)_i·n_i >= dist·n_i² for every i, hence (q - p)·n >= dist·|n|².
-Vec3d offset_origin(const Vec3d& p, const Vec3d& n, double dist);
+// The origin is moved by the kernel's rayproof::offset_origin (each coordinate by
+// dist·n_i and one float further in the direction of n_i, pbrt-v4's OffsetRayOrigin).
 
 // 2^-60·max(|p|_inf, |d|_inf): below one rounding unit (2^-52) of the largest
 // coordinate involved, so it never outweighs a non-zero error bound there; it only

@@ -32,6 +32,11 @@ namespace rayproof::gen {
 
 using Rng = std::mt19937_64;
 
+// Every conversion to T of a value that may not be a T (a double, a large integer) goes
+// through the kernel's narrow, which g++ < 13's SLP vectorizer cannot drop
+// (docs/compiler-bugs.md).
+using ::rayproof::detail::narrow;
+
 // One generated input: the ray, the shape, and the name of the generator that made it.
 template <class T, class Shape> struct Case {
     Ray<T> ray;
@@ -70,7 +75,7 @@ inline bool chance(Rng& rng, unsigned num, unsigned den) { return below(rng, den
 // Uniform in [0, 1) with 53 random bits.
 inline double uniform01(Rng& rng) { return double(rng() >> 11) * 0x1p-53; }
 // Uniform in [a, b] (rounded to T).
-template <class T> T uniform(Rng& rng, double a, double b) { return T(a + (b - a) * uniform01(rng)); }
+template <class T> T uniform(Rng& rng, double a, double b) { return narrow<T>(a + (b - a) * uniform01(rng)); }
 // A random sign, +1 or -1.
 inline int random_sign(Rng& rng) { return (rng() & 1) ? 1 : -1; }
 // A uniform integer in [lo, hi] with a random sign (the sign drawn first).
@@ -144,9 +149,9 @@ template <class T> T log_uniform(Rng& rng) {
 template <class T> T wide_value(Rng& rng) { return chance(rng, 1, 8) ? special_value<T>(rng) : log_uniform<T>(rng); }
 // Log-uniform magnitude between 2^lo and 2^hi (a random mantissa), random sign if asked.
 template <class T> T magnitude(Rng& rng, int lo_exp, int hi_exp, bool signed_ = true) {
-    const T m = T(1) + T(uniform01(rng));  // [1, 2]
+    const T m = T(1) + narrow<T>(uniform01(rng));  // [1, 2]
     const T x = std::ldexp(m, int(uniform_int(rng, lo_exp, hi_exp)));
-    return signed_ ? T(random_sign(rng)) * x : x;
+    return signed_ ? narrow<T>(random_sign(rng)) * x : x;
 }
 
 // ---------------------------------------------------------------------------------
@@ -176,12 +181,12 @@ inline I3 random_nonzero_i3(Rng& rng, std::int64_t r) {
 template <class T> bool representable(std::int64_t v) {
     const std::int64_t a = v < 0 ? -v : v;
     if (a <= (std::int64_t(1) << kPrecision<T>)) return true;
-    return std::int64_t(T(v)) == v;  // |v| < 2^63, so the conversion back is defined
+    return std::int64_t(narrow<T>(v)) == v;  // |v| < 2^63, so the conversion back is defined
 }
 template <class T> bool representable(const I3& v) {
     return representable<T>(v[0]) && representable<T>(v[1]) && representable<T>(v[2]);
 }
-template <class T> Vec3<T> to_vec(const I3& v) { return Vec3<T>(T(v[0]), T(v[1]), T(v[2])); }
+template <class T> Vec3<T> to_vec(const I3& v) { return Vec3<T>(narrow<T>(v[0]), narrow<T>(v[1]), narrow<T>(v[2])); }
 
 // A Pythagorean quadruple (a, b, c, n): a² + b² + c² = n², n > 0, from four small
 // integers (every primitive quadruple arises this way: Carmichael's parametrization).
@@ -351,7 +356,7 @@ void on_boundary_t_range(Ray<T>& r, Rng& rng, BoundaryParameter at, OriginRange 
         origin_range(r, rng);
         if (r.t_max < r.t_min) r.t_max = kInf<T>;
     } else {
-        special_t_range(r, rng, T(at.s));
+        special_t_range(r, rng, narrow<T>(at.s));
     }
 }
 // The same with the usual range at the origin: random_t_range, t_min made 0 half the time.
@@ -474,7 +479,7 @@ enum class RayFault { nan_origin, inf_origin, nan_direction, inf_direction, nan_
                       t_max_minus_inf, t_min_above_t_max, zero_direction, count };
 
 // NaN, or +inf or -inf, with equal chance.
-template <class T> T non_finite(Rng& rng) { return chance(rng, 1, 2) ? kNaN<T> : T(random_sign(rng)) * kInf<T>; }
+template <class T> T non_finite(Rng& rng) { return chance(rng, 1, 2) ? kNaN<T> : narrow<T>(random_sign(rng)) * kInf<T>; }
 // A non_finite value put, with equal chance, in x or in a drawn component of v.
 template <class T> void make_non_finite(T& x, Vec3<T>& v, Rng& rng) {
     const T bad = non_finite<T>(rng);
@@ -489,9 +494,9 @@ template <class T> void break_ray(Ray<T>& r, RayFault f, Rng& rng) {
     const int i = int(below(rng, 3));
     switch (f) {
         case RayFault::nan_origin: r.origin[i] = kNaN<T>; break;
-        case RayFault::inf_origin: r.origin[i] = T(random_sign(rng)) * kInf<T>; break;
+        case RayFault::inf_origin: r.origin[i] = narrow<T>(random_sign(rng)) * kInf<T>; break;
         case RayFault::nan_direction: r.direction[i] = kNaN<T>; break;
-        case RayFault::inf_direction: r.direction[i] = T(random_sign(rng)) * kInf<T>; break;
+        case RayFault::inf_direction: r.direction[i] = narrow<T>(random_sign(rng)) * kInf<T>; break;
         case RayFault::nan_t_min: r.t_min = kNaN<T>; break;
         case RayFault::nan_t_max: r.t_max = kNaN<T>; break;
         case RayFault::t_min_plus_inf: r.t_min = kInf<T>; break;

@@ -94,7 +94,7 @@ template <class T> Case<T, Aabb<T>> aabb_grazing(Rng& rng) {
         const std::int64_t s = chance(rng, 1, 8) ? 0 : uniform_int(rng, 1, 8);
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
         if (!detail::aabb_from_integers<T>(b, sub(p, mul(s, d)), dv, random_translation<T>(rng), c)) return false;
-        special_t_range(c.ray, rng, T(s));
+        special_t_range(c.ray, rng, narrow<T>(s));
         return true;
     });
 }
@@ -172,7 +172,7 @@ template <class T> Case<T, Aabb<T>> aabb_extreme(Rng& rng) {
         for (int i = 0; i < 3; ++i) center[i] = magnitude<T>(rng, 20, L::max_exponent - 8);
         const T size = std::ldexp(center.cwiseAbs().maxCoeff(), -int(uniform_int(rng, 8, kPrecision<T> + 24)));
         for (int i = 0; i < 3; ++i) {
-            const T h = size * T(uniform01(rng));
+            const T h = size * narrow<T>(uniform01(rng));
             c.shape.lo[i] = center[i] - h;
             c.shape.hi[i] = center[i] + h;
             c.ray.origin[i] = uniform<T>(rng, -1, 1);
@@ -184,7 +184,7 @@ template <class T> Case<T, Aabb<T>> aabb_extreme(Rng& rng) {
         for (int i = 0; i < 3; ++i) {
             c.shape.lo[i] = -magnitude<T>(rng, L::max_exponent - 6, L::max_exponent - 1, false);
             c.shape.hi[i] = magnitude<T>(rng, L::max_exponent - 6, L::max_exponent - 1, false);
-            c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : T(random_sign(rng)) * L::max();
+            c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : narrow<T>(random_sign(rng)) * L::max();
         }
         c.ray.direction = nonzero_wide_vec<T>(rng);
     } else if (kind == 2) {  // denormal sized
@@ -223,7 +223,7 @@ template <class T> Case<T, Aabb<T>> aabb_invalid(Rng& rng) {
                                 x = non_finite<T>(rng);
                             } else {  // lo > hi, by one ulp or more
                                 c.shape.lo[i] = chance(rng, 1, 2) ? step_up(c.shape.hi[i])
-                                                                  : c.shape.hi[i] + T(uniform_int(rng, 1, 8));
+                                                                  : c.shape.hi[i] + narrow<T>(uniform_int(rng, 1, 8));
                                 if (!(c.shape.lo[i] > c.shape.hi[i])) c.shape.lo[i] = step_up(c.shape.hi[i]);
                             }
                         });

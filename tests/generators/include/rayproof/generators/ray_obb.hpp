@@ -40,9 +40,9 @@ template <class T> Mat3<T> random_rotation(Rng& rng) {
     }
     const double n = std::sqrt(n2), w = q[0] / n, x = q[1] / n, y = q[2] / n, z = q[3] / n;
     Mat3<T> m;
-    m << T(1 - 2 * (y * y + z * z)), T(2 * (x * y - w * z)), T(2 * (x * z + w * y)),  //
-        T(2 * (x * y + w * z)), T(1 - 2 * (x * x + z * z)), T(2 * (y * z - w * x)),   //
-        T(2 * (x * z - w * y)), T(2 * (y * z + w * x)), T(1 - 2 * (x * x + y * y));
+    m << narrow<T>(1 - 2 * (y * y + z * z)), narrow<T>(2 * (x * y - w * z)), narrow<T>(2 * (x * z + w * y)),  //
+        narrow<T>(2 * (x * y + w * z)), narrow<T>(1 - 2 * (x * x + z * z)), narrow<T>(2 * (y * z - w * x)),   //
+        narrow<T>(2 * (x * z - w * y)), narrow<T>(2 * (y * z + w * x)), narrow<T>(1 - 2 * (x * x + y * y));
     return m;
 }
 }  // namespace detail
@@ -135,7 +135,7 @@ template <class T> Case<T, Obb<T>> obb_grazing(Rng& rng) {
         const Vec3<T> dv = to_vec_signed_zeros<T>(d, rng);
         if (!detail::obb_from_integers<T>(a, center, h, sub(add(center, v), mul(s, d)), dv, random_translation<T>(rng), c))
             return false;
-        special_t_range(c.ray, rng, T(s));
+        special_t_range(c.ray, rng, narrow<T>(s));
         return true;
     });
 }
@@ -202,7 +202,7 @@ template <class T> Case<T, Obb<T>> obb_extreme(Rng& rng) {
     if (kind == 0) {  // tiny and far
         for (int i = 0; i < 3; ++i) c.shape.center[i] = magnitude<T>(rng, 20, L::max_exponent - 8);
         const T scale = std::ldexp(c.shape.center.cwiseAbs().maxCoeff(), -int(uniform_int(rng, 8, kPrecision<T> + 24)));
-        for (int i = 0; i < 3; ++i) c.shape.half_extent[i] = scale * T(uniform01(rng));
+        for (int i = 0; i < 3; ++i) c.shape.half_extent[i] = scale * narrow<T>(uniform01(rng));
         for (int i = 0; i < 3; ++i) c.ray.origin[i] = uniform<T>(rng, -1, 1);
         c.ray.direction = c.shape.center - c.ray.origin;
         const int j = int(below(rng, 3));
@@ -210,7 +210,7 @@ template <class T> Case<T, Obb<T>> obb_extreme(Rng& rng) {
     } else if (kind == 1) {  // huge
         for (int i = 0; i < 3; ++i) {
             c.shape.half_extent[i] = magnitude<T>(rng, L::max_exponent - 6, L::max_exponent - 1, false);
-            c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : T(random_sign(rng)) * L::max();
+            c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : narrow<T>(random_sign(rng)) * L::max();
         }
         c.ray.direction = nonzero_wide_vec<T>(rng);
     } else if (kind == 2) {  // nearly dependent axes: a2 = a0 + a1 with one entry nudged
@@ -222,8 +222,8 @@ template <class T> Case<T, Obb<T>> obb_extreme(Rng& rng) {
         int r = int(below(rng, 3));
         while (n[r] == 0) r = (r + 1) % 3;
         T& x = c.shape.axes(r, 2);
-        x = x == 0 ? T(random_sign(rng)) * L::denorm_min() : nudge(x, random_sign(rng));
-        for (int i = 0; i < 3; ++i) c.shape.half_extent[i] = T(uniform_int(rng, 0, 16));
+        x = x == 0 ? narrow<T>(random_sign(rng)) * L::denorm_min() : nudge(x, random_sign(rng));
+        for (int i = 0; i < 3; ++i) c.shape.half_extent[i] = narrow<T>(uniform_int(rng, 0, 16));
     } else {  // axes of extreme magnitude
         const int e = chance(rng, 1, 2) ? int(uniform_int(rng, L::min_exponent - kPrecision<T> + 8, L::min_exponent))
                                         : int(uniform_int(rng, L::max_exponent / 2, L::max_exponent - 4));
@@ -249,7 +249,7 @@ template <class T> Case<T, Obb<T>> obb_invalid(Rng& rng) {
                                 else c.shape.half_extent[i] = bad;
                             } else if (k == 1) {
                                 c.shape.half_extent[i] =
-                                    chance(rng, 1, 2) ? -std::numeric_limits<T>::denorm_min() : -T(uniform_int(rng, 1, 8));
+                                    chance(rng, 1, 2) ? -std::numeric_limits<T>::denorm_min() : -narrow<T>(uniform_int(rng, 1, 8));
                             } else {
                                 const IMat3 a = integer_axes(rng);
                                 Mat3<T> m = to_mat<T>(a);
@@ -257,9 +257,9 @@ template <class T> Case<T, Obb<T>> obb_invalid(Rng& rng) {
                                 switch (below(rng, 4)) {
                                     case 0: m.col(i).setZero(); if (rng() & 1) m(0, i) = -T(0); break;
                                     case 1: m.col(i) = m.col(j); break;
-                                    case 2: m.col(i) = T(signed_int(rng, 1, 4)) * m.col(j); break;
+                                    case 2: m.col(i) = narrow<T>(signed_int(rng, 1, 4)) * m.col(j); break;
                                     default: {
-                                        const T u = T(uniform_int(rng, -3, 3)), v = T(uniform_int(rng, -3, 3));
+                                        const T u = narrow<T>(uniform_int(rng, -3, 3)), v = narrow<T>(uniform_int(rng, -3, 3));
                                         m.col(i) = u * m.col(j) + v * m.col(l);
                                         break;
                                     }

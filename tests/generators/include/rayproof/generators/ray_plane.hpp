@@ -14,7 +14,7 @@ template <class T> bool plane_from_integers(const I3& n, const I3& point, const 
     const std::int64_t offset = dot(n, point) + offset_shift;
     if (!representable<T>(n) || !representable<T>(offset) || !ray_from_integers(origin, d, c.ray)) return false;
     c.shape.normal = to_vec<T>(n);
-    c.shape.offset = T(offset);
+    c.shape.offset = narrow<T>(offset);
     return true;
 }
 }  // namespace detail
@@ -54,7 +54,7 @@ template <class T> Case<T, Plane<T>> plane_grazing(Rng& rng) {
         if (!detail::plane_from_integers<T>(n, p, sub(p, mul(s, d)), to_vec_signed_zeros<T>(d, rng), 0, c))
             return false;
         if (chance(rng, 1, 2)) c.shape.normal = to_vec_signed_zeros<T>(n, rng);
-        special_t_range(c.ray, rng, T(s));
+        special_t_range(c.ray, rng, narrow<T>(s));
         return true;
     });
 }
@@ -111,7 +111,7 @@ template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
         on_boundary_t_range(c.ray, rng, at, [](Ray<T>& r, Rng& g) {
             const auto k = below(g, 3);
             r.t_min = k == 0 ? T(0) : k == 1 ? std::numeric_limits<T>::denorm_min() : -T(0);
-            r.t_max = chance(g, 1, 2) ? kInf<T> : T(uniform_int(g, 0, 4));
+            r.t_max = chance(g, 1, 2) ? kInf<T> : narrow<T>(uniform_int(g, 0, 4));
         });
         return true;
     });
@@ -153,13 +153,13 @@ template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
         }
         c.shape.offset = wide_value<T>(rng);
     } else {  // a far crossing next to a limit, n·d with cancellation
-        const T s = T(random_sign(rng)), big = std::ldexp(T(1), kPrecision<T> + 25);  // its ulp: 2^26
+        const T s = narrow<T>(random_sign(rng)), big = std::ldexp(T(1), kPrecision<T> + 25);  // its ulp: 2^26
         const T x = std::ldexp(uniform<T>(rng, 8.5, 12.5), 26);
         c.shape.normal = Vec3<T>(s, s, s);
         c.ray.origin = Vec3<T>(0, 0, 0);
         c.ray.direction = Vec3<T>(big, x, -big);
-        c.shape.offset = T(random_sign(rng)) * uniform<T>(rng, 0.9, 1.0) * L::max();
-        const T limit = T(double(c.shape.offset) / (double(s) * double(x)) * uniform<double>(rng, 0.95, 1.05));
+        c.shape.offset = narrow<T>(random_sign(rng)) * uniform<T>(rng, 0.9, 1.0) * L::max();
+        const T limit = narrow<T>(double(c.shape.offset) / (double(s) * double(x)) * uniform<double>(rng, 0.95, 1.05));
         if (chance(rng, 1, 2)) {
             c.ray.t_min = limit;
             c.ray.t_max = kInf<T>;

@@ -17,7 +17,7 @@ template <class T> bool sphere_from_integers(const I3& center, std::int64_t radi
     const I3 ct = add(center, tau);
     if (!representable<T>(ct) || !representable<T>(radius) || !ray_from_integers(add(origin, tau), d, c.ray)) return false;
     c.shape.center = to_vec<T>(ct);
-    c.shape.radius = T(radius);
+    c.shape.radius = narrow<T>(radius);
     return true;
 }
 }  // namespace detail
@@ -74,7 +74,7 @@ template <class T> Case<T, Sphere<T>> sphere_grazing(Rng& rng) {
                                                  tau, c))
                 return false;
         }
-        special_t_range(c.ray, rng, T(s));
+        special_t_range(c.ray, rng, narrow<T>(s));
         return true;
     });
 }
@@ -140,13 +140,13 @@ template <class T> Case<T, Sphere<T>> sphere_on_boundary(Rng& rng) {
             }
         } while (n2 < 0x1p-4 || n2 > 1);
         const double rad = uniform<double>(rng, 0.25, 8), n = std::sqrt(n2);
-        c.shape.radius = T(rad);
+        c.shape.radius = narrow<T>(rad);
         for (int j = 0; j < 3; ++j) {
             c.shape.center[j] = uniform<T>(rng, -16, 16);
-            c.ray.origin[j] = T(double(c.shape.center[j]) + double(c.shape.radius) * (u[j] / n));
+            c.ray.origin[j] = narrow<T>(double(c.shape.center[j]) + double(c.shape.radius) * (u[j] / n));
             // mostly along u (leaving the sphere), else at random
             const double w = uniform<double>(rng, -1, 1);
-            c.ray.direction[j] = T(chance(rng, 1, 3) ? w : u[j] + 0.5 * w);
+            c.ray.direction[j] = narrow<T>(chance(rng, 1, 3) ? w : u[j] + 0.5 * w);
         }
         if (c.ray.direction == Vec3<T>::Zero()) c.ray.direction[0] = T(1);
         c.ray.t_min = 0;
@@ -186,7 +186,7 @@ template <class T> Case<T, Sphere<T>> sphere_extreme(Rng& rng) {
         for (int i = 0; i < 3; ++i) c.shape.center[i] = magnitude<T>(rng, 20, far);
         const T dist = c.shape.center.cwiseAbs().maxCoeff();
         c.shape.radius = kind == 2 ? T(0)
-                         : chance(rng, 1, 2) ? T(1e-3)
+                         : chance(rng, 1, 2) ? narrow<T>(1e-3)
                                              : std::ldexp(dist, -int(uniform_int(rng, 10, kPrecision<T> + 20)));
         for (int i = 0; i < 3; ++i) c.ray.origin[i] = uniform<T>(rng, -1, 1);
         c.ray.direction = c.shape.center - c.ray.origin;
@@ -196,7 +196,7 @@ template <class T> Case<T, Sphere<T>> sphere_extreme(Rng& rng) {
         c.shape.radius = magnitude<T>(rng, L::max_exponent - 6, L::max_exponent - 1, false);
         for (int i = 0; i < 3; ++i) {
             c.shape.center[i] = wide_value<T>(rng);
-            c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : c.shape.radius * T(uniform01(rng));
+            c.ray.origin[i] = chance(rng, 1, 2) ? wide_value<T>(rng) : c.shape.radius * narrow<T>(uniform01(rng));
         }
         c.ray.direction = nonzero_wide_vec<T>(rng);
     } else {  // denormal sized
