@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <span>
 #include <sstream>
 #include <string>
@@ -135,6 +136,14 @@ template <class T, class Shape, class Mode> void check_mode(const Case<T, Shape>
               what + ": reversed ray");
 
         check(rayproof::normal(c.shape, h, c.hitting) == c.outward, what + ": normal()");
+
+        // The hit point with its error bound, and secondary rays spawned off both sides.
+        const rayproof::SurfacePoint<T> sp = rayproof::surface_point(c.hitting, c.shape, h);
+        check(sp.n == c.outward && (sp.error.array() >= T(0)).all(), what + ": surface_point");
+        for (const int side : {+1, -1}) {
+            const rayproof::Vec3<T> o = rayproof::spawn_origin(sp, side);
+            check(T(side) * (o - sp.p).dot(sp.n) > T(0), what + ": spawn_origin leaves on side " + std::to_string(side));
+        }
         check(rayproof::normal(c.shape, hits[1], c.missing) == rayproof::Vec3<T>::Zero(), what + ": normal() of a miss");
     }
 }
@@ -143,6 +152,19 @@ template <class T, class Shape> void check_case(const Case<T, Shape>& c) {
     check_mode(c, rayproof::fast);
     check_mode(c, rayproof::conservative);
     check_mode(c, rayproof::certified);
+
+    // The run-time mode answers as its tag, bit for bit in certified mode.
+    for (const char* name : {"fast", "conservative", "certified"}) {
+        const std::optional<rayproof::RuntimeMode> m = rayproof::parse_mode(name);
+        check(m.has_value() && std::string(rayproof::to_string(*m)) == name, std::string("parse_mode ") + name);
+        check(m.has_value() && rayproof::verdict(c.hitting, c.shape, *m) == rayproof::Verdict::hit,
+              std::string(c.name) + ": RuntimeMode verdict in " + name);
+    }
+    const rayproof::Hit<T> by_tag = ask(c.hitting, c.shape, rayproof::certified);
+    const rayproof::Hit<T> by_enum = rayproof::intersect(c.hitting, c.shape, rayproof::RuntimeMode::certified);
+    check(std::memcmp(&by_tag.t_enter, &by_enum.t_enter, sizeof(T)) == 0 && by_tag.face == by_enum.face,
+          std::string(c.name) + ": RuntimeMode intersect equals the tag's");
+    check(!rayproof::parse_mode("exact").has_value(), "parse_mode refuses an unknown name");
 
     // io: every public type prints, numbers in hexadecimal floating point.
     std::ostringstream os;
