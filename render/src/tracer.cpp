@@ -393,21 +393,6 @@ Stats& Stats::operator+=(const Stats& o) {
     return *this;
 }
 
-const char* mode_name(Mode m) {
-    switch (m) {
-        case Mode::fast: return "fast";
-        case Mode::conservative: return "conservative";
-        case Mode::certified: return "certified";
-    }
-    return "?";
-}
-
-std::optional<Mode> parse_mode(std::string_view name) {
-    for (Mode m : all_modes)
-        if (name == mode_name(m)) return m;
-    return std::nullopt;
-}
-
 Ray<double> camera_ray(const Camera& cam, int width, int height, double px, double py) {
     const Vec3d f = (cam.look_at - cam.position).normalized();
     const Vec3d r = f.cross(cam.up).normalized();

@@ -18,11 +18,12 @@ namespace rayproof::render {
 using Vec3d = Eigen::Vector3d;
 using Color = Eigen::Array3d;  // linear RGB, one value per channel
 
-// The kernel mode every ray query of a render uses.
-enum class Mode { fast, conservative, certified };
+// The kernel mode every ray query of a render uses: the kernel's run-time mode, named and
+// parsed by the kernel's mode_name and parse_mode.
+using Mode = ::rayproof::RuntimeMode;
+using ::rayproof::mode_name;
+using ::rayproof::parse_mode;
 inline constexpr Mode all_modes[] = {Mode::fast, Mode::conservative, Mode::certified};
-const char* mode_name(Mode m);
-std::optional<Mode> parse_mode(std::string_view name);
 
 // Pinhole camera: the eye is the centre of projection; the projection plane is at unit
 // distance along the view direction; fov is the vertical field of view in degrees.
