@@ -11,6 +11,7 @@ RAYPROOF_PACKAGES=(
   libgtest-dev librapidcheck-dev libbenchmark-dev
   nlohmann-json3-dev libpng-dev libembree-dev
   povray gnuplot-nox
+  libcli11-dev libfmt-dev
 )
 
 install_missing() {
