@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -16,6 +17,17 @@
 namespace rayproof::cli {
 
 inline constexpr int usage_error = 2;
+
+// Checks for unsigned options, which CLI11 would otherwise wrap around from a minus sign.
+inline const CLI::Validator non_negative(
+    [](const std::string& s) { return s.empty() || s[0] != '-' ? std::string() : "expects a number >= 0, got " + s; },
+    "");
+inline const CLI::Validator positive(
+    [](const std::string& s) {
+        return s.empty() || (s[0] != '-' && std::strtod(s.c_str(), nullptr) != 0) ? std::string()
+                                                                                   : "expects a number > 0, got " + s;
+    },
+    "");
 
 // The innermost subcommand given on the command line (the program itself if none).
 inline const CLI::App& innermost(const CLI::App& app) {
