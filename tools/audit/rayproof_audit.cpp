@@ -56,19 +56,14 @@ struct Options {
 // The command line into o; the exit status when the program is to stop.
 std::optional<int> parse(int argc, char** argv, Options& o) {
     CLI::App app{"What each mode costs in accuracy, measured against the exact oracle.", "rayproof-audit"};
-    app.add_option("--cases", o.cases, "cases per generator, shape and scalar type")
-        ->capture_default_str()
-        ->check(cli::positive);
-    app.add_option("--seed", o.seed, "master seed (decimal or 0x hex; default 0x5eed)")->check(cli::non_negative);
+    app.option_defaults()->always_capture_default();
+    app.add_option("--cases", o.cases, "cases per generator, shape and scalar type")->check(cli::positive);
+    app.add_option("--seed", o.seed, "master seed (decimal or 0x hex)")->check(cli::non_negative);
     app.add_option("--shape", o.shape, "restrict to one shape")
-        ->capture_default_str()
         ->check(CLI::IsMember({"aabb", "obb", "plane", "sphere", "all"}));
-    app.add_option("--type", o.type, "restrict to one scalar type")
-        ->capture_default_str()
-        ->check(CLI::IsMember({"float", "double", "all"}));
+    app.add_option("--type", o.type, "restrict to one scalar type")->check(CLI::IsMember({"float", "double", "all"}));
     app.add_option("--generator", o.generator, "restrict to one generator name (see --list)");
     app.add_option("--format", o.format, "md (a Markdown table with a legend) or csv")
-        ->capture_default_str()
         ->check(CLI::IsMember({"md", "csv"}));
     app.add_option("--jobs", o.jobs, "rows computed in parallel (default: hardware threads)")->check(cli::non_negative);
     app.add_option("--examples", o.examples, "print the first K wrong answers of each row (hexfloat, with seeds)")
