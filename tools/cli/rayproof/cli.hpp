@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace rayproof::cli {
 
@@ -51,7 +52,15 @@ inline int report(const CLI::App& app, const CLI::ParseError& e) {
     }
     const CLI::App& at = innermost(app);
     const std::string name = full_name(at);
-    std::cerr << name << ": " << e.what() << '\n';
+    // CLI11 checks what is required before what is unknown: name the unknown first.
+    const std::vector<std::string> unknown = at.remaining();
+    const bool has_subcommands = !at.get_subcommands([](const CLI::App*) { return true; }).empty();
+    if (e.get_name() == "RequiredError" && !unknown.empty() && has_subcommands)
+        std::cerr << name << ": unknown subcommand " << unknown.front() << '\n';
+    else if (e.get_name() == "RequiredError" && !unknown.empty())
+        std::cerr << name << ": not expected: " << unknown.front() << "; " << e.what() << '\n';
+    else
+        std::cerr << name << ": " << e.what() << '\n';
     if (const auto f = std::dynamic_pointer_cast<CLI::Formatter>(at.get_formatter()))
         std::cerr << f->make_usage(&at, name);
     std::cerr << "Run '" << name << " --help' for the options.\n";
