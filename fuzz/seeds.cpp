@@ -12,8 +12,9 @@
 #include <rayproof/generators.hpp>
 #include <rayproof/io.hpp>
 
+#include <rayproof/cli.hpp>
+
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -69,22 +70,29 @@ template <template <class> class Shape> int both(const std::string& target, cons
 }  // namespace
 
 int main(int argc, char** argv) {
-    const std::string cmd = argc > 1 ? argv[1] : "";
-    if (cmd == "write" && argc >= 3) {
-        const fs::path dir = argv[2];
-        const int n = argc > 3 ? std::atoi(argv[3]) : 6;
-        const int f = both<Aabb>("ray_aabb_fuzz", &dir, n) + both<Obb>("ray_obb_fuzz", &dir, n) +
-                      both<Plane>("ray_plane_fuzz", &dir, n) + both<Sphere>("ray_sphere_fuzz", &dir, n);
-        std::cout << "seed corpora written to " << dir.string() << (f ? " with failures" : "") << '\n';
-        return f ? 1 : 0;
-    }
-    if (cmd == "check") {
-        const int n = argc > 2 ? std::atoi(argv[2]) : 200;
-        const int f = both<Aabb>("ray_aabb_fuzz", nullptr, n) + both<Obb>("ray_obb_fuzz", nullptr, n) +
-                      both<Plane>("ray_plane_fuzz", nullptr, n) + both<Sphere>("ray_sphere_fuzz", nullptr, n);
-        std::cout << (f ? "round trip FAILED" : "encode/decode round trip: ok") << '\n';
-        return f ? 1 : 0;
-    }
-    std::cerr << "usage: " << argv[0] << " write DIR [N] | check [N]\n";
-    return 2;
+    CLI::App app{"Writes the seed corpora of the ray/shape fuzz targets; checks the byte format's round trip.",
+                 "rayproof_fuzz_seeds"};
+    app.require_subcommand(1);
+    std::string dir;
+    int n_write = 6, n_check = 200, failures = 0;
+    CLI::App& write = *app.add_subcommand("write", "write DIR/<target>/<float|double>-<generator>-<k>, k = 1..N");
+    write.add_option("DIR", dir, "the corpus directory")->required();
+    write.add_option("N", n_write, "cases per generator and scalar type")->capture_default_str()->check(CLI::Range(1, 1 << 20));
+    CLI::App& check = *app.add_subcommand("check", "encode then decode is the identity, bit for bit; exit 1 otherwise");
+    check.add_option("N", n_check, "cases per generator and scalar type")->capture_default_str()->check(CLI::Range(1, 1 << 20));
+    const auto all = [&](const fs::path* d, int n) {
+        failures = both<Aabb>("ray_aabb_fuzz", d, n) + both<Obb>("ray_obb_fuzz", d, n) +
+                   both<Plane>("ray_plane_fuzz", d, n) + both<Sphere>("ray_sphere_fuzz", d, n);
+    };
+    write.callback([&] {
+        const fs::path d = dir;
+        all(&d, n_write);
+        std::cout << "seed corpora written to " << d.string() << (failures ? " with failures" : "") << '\n';
+    });
+    check.callback([&] {
+        all(nullptr, n_check);
+        std::cout << (failures ? "round trip FAILED" : "encode/decode round trip: ok") << '\n';
+    });
+    if (const auto stop = rayproof::cli::parse(app, argc, argv)) return *stop;
+    return failures ? 1 : 0;
 }

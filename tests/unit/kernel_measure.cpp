@@ -15,6 +15,8 @@
 #include <rayproof/rayproof.hpp>
 #include <valgrind/callgrind.h>
 
+#include <rayproof/cli.hpp>
+
 #include <bit>
 #include <cstdint>
 #include <cstdio>
@@ -144,17 +146,28 @@ template <class F> void each(F&& f) {
 }
 
 int main(int argc, char** argv) {
-    const std::string what = argc > 1 ? argv[1] : "hash";
-    const std::size_t n = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 200000;
-    if (argc > 3) only_shape = argv[3];
-    if (what == "hash") each([&]<class T, class S>() { hash_shape<T, S>(n); });
-    else if (what == "count") each([&]<class T, class S>() { count_shape<T, S>(n); });
+    CLI::App app{"Evidence that a change to the kernel changed no answer and no cost (hash is the default).",
+                 "kernel_measure"};
+    app.require_subcommand(0, 1);
+    std::size_t n = 200000;
+    std::string shape;
+    const auto cases = [&](CLI::App* cmd) { cmd->add_option("cases", n, "cases per combination")->capture_default_str(); };
+    CLI::App* hash = app.add_subcommand("hash", "FNV-1a of every answer per shape, type and mode");
+    cases(hash);
+    CLI::App* count = app.add_subcommand("count", "the uniform cases between callgrind's client requests");
+    cases(count);
+    count->add_option("Shape", shape, "only this shape (Aabb, Obb, Plane, Sphere)")
+        ->check(CLI::IsMember({"Aabb", "Obb", "Plane", "Sphere"}));
 #ifdef RAYPROOF_COUNTERS
-    else if (what == "rates") each([&]<class T, class S>() { rates_shape<T, S>(n); });
+    CLI::App* rates = app.add_subcommand("rates", "the certified mode's exact-stage rate per generator");
+    cases(rates);
 #endif
-    else {
-        std::fprintf(stderr, "usage: kernel_measure hash|count|rates [cases] [Shape]\n");
-        return 2;
-    }
+    if (const auto stop = rayproof::cli::parse(app, argc, argv)) return *stop;
+    if (!shape.empty()) only_shape = shape.c_str();
+    if (count->parsed()) each([&]<class T, class S>() { count_shape<T, S>(n); });
+#ifdef RAYPROOF_COUNTERS
+    else if (rates->parsed()) each([&]<class T, class S>() { rates_shape<T, S>(n); });
+#endif
+    else each([&]<class T, class S>() { hash_shape<T, S>(n); });
     return 0;
 }
