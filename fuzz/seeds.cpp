@@ -70,29 +70,23 @@ template <template <class> class Shape> int both(const std::string& target, cons
 }  // namespace
 
 int main(int argc, char** argv) {
-    CLI::App app{"Writes the seed corpora of the ray/shape fuzz targets; checks the byte format's round trip.",
-                 "rayproof_fuzz_seeds"};
+    CLI::App app{"Writes the fuzz targets' seed corpora; checks the byte format's round trip.", "rayproof_fuzz_seeds"};
     app.require_subcommand(1);
     std::string dir;
-    int n_write = 6, n_check = 200, failures = 0;
-    CLI::App& write = *app.add_subcommand("write", "write DIR/<target>/<float|double>-<generator>-<k>, k = 1..N");
+    int n = 0;
+    CLI::App& write = *app.add_subcommand("write", "write DIR/<target>/<float|double>-<generator>-<k>, k = 1..N (6)");
     write.add_option("DIR", dir, "the corpus directory")->required();
-    write.add_option("N", n_write, "cases per generator and scalar type")->capture_default_str()->check(CLI::Range(1, 1 << 20));
-    CLI::App& check = *app.add_subcommand("check", "encode then decode is the identity, bit for bit; exit 1 otherwise");
-    check.add_option("N", n_check, "cases per generator and scalar type")->capture_default_str()->check(CLI::Range(1, 1 << 20));
-    const auto all = [&](const fs::path* d, int n) {
-        failures = both<Aabb>("ray_aabb_fuzz", d, n) + both<Obb>("ray_obb_fuzz", d, n) +
-                   both<Plane>("ray_plane_fuzz", d, n) + both<Sphere>("ray_sphere_fuzz", d, n);
-    };
-    write.callback([&] {
-        const fs::path d = dir;
-        all(&d, n_write);
-        std::cout << "seed corpora written to " << d.string() << (failures ? " with failures" : "") << '\n';
-    });
-    check.callback([&] {
-        all(nullptr, n_check);
-        std::cout << (failures ? "round trip FAILED" : "encode/decode round trip: ok") << '\n';
-    });
+    CLI::App& check = *app.add_subcommand("check", "encode then decode is the identity, bit for bit, on N cases (200)");
+    for (CLI::App* c : {&write, &check})
+        c->add_option("N", n, "cases per generator and scalar type")->check(CLI::Range(1, 1 << 20));
     if (const auto stop = rayproof::cli::parse(app, argc, argv)) return *stop;
-    return failures ? 1 : 0;
+    const fs::path d = dir, *out = write.parsed() ? &d : nullptr;
+    if (n == 0) n = out ? 6 : 200;
+    const int f = both<Aabb>("ray_aabb_fuzz", out, n) + both<Obb>("ray_obb_fuzz", out, n) +
+                  both<Plane>("ray_plane_fuzz", out, n) + both<Sphere>("ray_sphere_fuzz", out, n);
+    if (out)
+        std::cout << "seed corpora written to " << d.string() << (f ? " with failures" : "") << '\n';
+    else
+        std::cout << (f ? "round trip FAILED" : "encode/decode round trip: ok") << '\n';
+    return f ? 1 : 0;
 }

@@ -146,28 +146,21 @@ template <class F> void each(F&& f) {
 }
 
 int main(int argc, char** argv) {
-    CLI::App app{"Evidence that a change to the kernel changed no answer and no cost (hash is the default).",
-                 "kernel_measure"};
-    app.require_subcommand(0, 1);
+    CLI::App app{"Evidence that a change to the kernel changed no answer and no cost.", "kernel_measure"};
+    std::string what = "hash", shape;
     std::size_t n = 200000;
-    std::string shape;
-    const auto cases = [&](CLI::App* cmd) { cmd->add_option("cases", n, "cases per combination")->capture_default_str(); };
-    CLI::App* hash = app.add_subcommand("hash", "FNV-1a of every answer per shape, type and mode");
-    cases(hash);
-    CLI::App* count = app.add_subcommand("count", "the uniform cases between callgrind's client requests");
-    cases(count);
-    count->add_option("Shape", shape, "only this shape (Aabb, Obb, Plane, Sphere)")
-        ->check(CLI::IsMember({"Aabb", "Obb", "Plane", "Sphere"}));
-#ifdef RAYPROOF_COUNTERS
-    CLI::App* rates = app.add_subcommand("rates", "the certified mode's exact-stage rate per generator");
-    cases(rates);
-#endif
+    app.add_option("what", what, "hash (default), count, rates (kernel_measure_counters)")
+        ->check(CLI::IsMember({"hash", "count", "rates"}));
+    app.add_option("cases", n, "cases per combination")->capture_default_str();
+    app.add_option("Shape", shape, "count: this shape alone")->check(CLI::IsMember({"Aabb", "Obb", "Plane", "Sphere"}));
     if (const auto stop = rayproof::cli::parse(app, argc, argv)) return *stop;
     if (!shape.empty()) only_shape = shape.c_str();
-    if (count->parsed()) each([&]<class T, class S>() { count_shape<T, S>(n); });
+    if (what == "hash") each([&]<class T, class S>() { hash_shape<T, S>(n); });
+    if (what == "count") each([&]<class T, class S>() { count_shape<T, S>(n); });
 #ifdef RAYPROOF_COUNTERS
-    else if (rates->parsed()) each([&]<class T, class S>() { rates_shape<T, S>(n); });
+    if (what == "rates") each([&]<class T, class S>() { rates_shape<T, S>(n); });
+#else
+    if (what == "rates") return rayproof::cli::report(app, CLI::ValidationError("what", "rates: run kernel_measure_counters"));
 #endif
-    else each([&]<class T, class S>() { hash_shape<T, S>(n); });
     return 0;
 }
