@@ -44,11 +44,7 @@ struct Options {
     std::uint64_t seed = kDefaultSeed;
     double watchdog = 60;  // seconds for the untimed check pass of each method (0: none)
 };
-Options& options();
-
-// Parses and removes --cases=N --cgal_cases=N --batch_max=N --seed=S --watchdog=SECONDS from argv (after
-// benchmark::Initialize has taken its own flags; flags.hpp); false when --cases or --batch_max is 0.
-bool parse_options(int& argc, char** argv);
+Options& options();  // set from the command line by main (bench_main.cpp)
 
 template <class T, class Shape> std::string bench_name(const char* kind, std::string_view a, std::string_view b) {
     return std::string(kind) + "/" + std::string(gen::shape_name<Shape>()) + "/" + std::string(gen::scalar_name<T>()) +

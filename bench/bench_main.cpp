@@ -3,7 +3,7 @@
 //   rayproof_bench [benchmark flags] [--cases=N] [--cgal_cases=N] [--batch_max=N] [--seed=S]
 //                  [--watchdog=SECONDS]
 #include "bench_common.hpp"
-#include "flags.hpp"
+#include "bench_cli.hpp"
 
 #include <string>
 
@@ -14,26 +14,23 @@ Options& options() {
     return o;
 }
 
-bool parse_options(int& argc, char** argv) {
-    Options& o = options();
-    take_flags(argc, argv,
-               {count_flag("--cases", o.cases), count_flag("--cgal_cases", o.cgal_cases),
-                count_flag("--batch_max", o.batch_max), seconds_flag("--watchdog", o.watchdog),
-                seed_flag("--seed", o.seed)});
-    if (o.cases == 0 || o.batch_max == 0) return false;
-    o.cgal_cases = std::min(o.cgal_cases, o.cases);
-    return true;
-}
-
 }  // namespace rayproof::bench
 
 int main(int argc, char** argv) {
+    using namespace rayproof;
     using namespace rayproof::bench;
-    benchmark::Initialize(&argc, argv);
-    if (!parse_options(argc, argv) || benchmark::ReportUnrecognizedArguments(argc, argv))
-        return usage_error(argv[0],
-                           "[--cases=N] [--cgal_cases=N] [--batch_max=N] [--seed=S]\n"
-                           "       [--watchdog=SECONDS]  (the deadline of each method's untimed check pass; 0: none)\n");
+    Options& o = options();
+    CLI::App app{"Times every shape, scalar type, workload and method, scalar and in batches.", "rayproof_bench"};
+    app.option_defaults()->always_capture_default();
+    app.add_option("--cases", o.cases, "cases per workload (the timed pass)")->check(cli::positive);
+    app.add_option("--cgal_cases", o.cgal_cases, "cases timed for the CGAL baselines (at most --cases)")
+        ->check(cli::non_negative);
+    app.add_option("--batch_max", o.batch_max, "the largest batch of the batch sweep")->check(cli::positive);
+    app.add_option("--seed", o.seed, "the workloads' seed (decimal or 0x hex)")->check(cli::non_negative);
+    app.add_option("--watchdog", o.watchdog, "the deadline of each method's untimed check pass, seconds (0: none)")
+        ->check(cli::non_negative);
+    if (const auto stop = parse_command_line(app, argc, argv)) return *stop;
+    o.cgal_cases = std::min(o.cgal_cases, o.cases);
     benchmark::AddCustomContext("cases", std::to_string(options().cases));
     benchmark::AddCustomContext("cgal_cases", std::to_string(options().cgal_cases));
     benchmark::AddCustomContext("seed", std::to_string(options().seed));

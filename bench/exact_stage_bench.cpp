@@ -12,7 +12,7 @@
 // the first `cases` cases.
 //   rayproof_bench_counters [benchmark flags] [--cases=N] [--count_cases=N]
 //                           [--count_cases_uniform=N] [--seed=S] [--watchdog=SECONDS]
-#include "flags.hpp"
+#include "bench_cli.hpp"
 #include "watchdog.hpp"
 #include "workloads.hpp"
 
@@ -103,24 +103,23 @@ template <class T, class Shape> void register_all() {
     }
 }
 
-bool parse(int& argc, char** argv) {
-    take_flags(argc, argv,
-               {count_flag("--cases", opts.cases), count_flag("--count_cases", opts.count_cases),
-                count_flag("--count_cases_uniform", opts.count_cases_uniform),
-                seconds_flag("--watchdog", opts.watchdog), seed_flag("--seed", opts.seed)});
-    return opts.cases > 0;
-}
-
 }  // namespace
 }  // namespace rayproof::bench
 
 int main(int argc, char** argv) {
     using namespace rayproof;
     using namespace rayproof::bench;
-    benchmark::Initialize(&argc, argv);
-    if (!parse(argc, argv) || benchmark::ReportUnrecognizedArguments(argc, argv))
-        return usage_error(argv[0], "[--cases=N] [--count_cases=N] [--count_cases_uniform=N] [--seed=S]\n"
-                                    "       [--watchdog=SECONDS]\n");
+    CLI::App app{"How often the certified mode needs its exact stage, per shape, scalar type and generator.",
+                 "rayproof_bench_counters"};
+    app.option_defaults()->always_capture_default();
+    app.add_option("--cases", opts.cases, "cases timed per generator")->check(cli::positive);
+    app.add_option("--count_cases", opts.count_cases, "cases counted per generator")->check(cli::non_negative);
+    app.add_option("--count_cases_uniform", opts.count_cases_uniform, "cases counted for `general` (uniform)")
+        ->check(cli::non_negative);
+    app.add_option("--seed", opts.seed, "the generators' seed (decimal or 0x hex)")->check(cli::non_negative);
+    app.add_option("--watchdog", opts.watchdog, "the deadline of each generator's counting pass, seconds")
+        ->check(cli::non_negative);
+    if (const auto stop = parse_command_line(app, argc, argv)) return *stop;
     benchmark::AddCustomContext("seed", std::to_string(opts.seed));
     register_all<double, Aabb<double>>();
     register_all<float, Aabb<float>>();

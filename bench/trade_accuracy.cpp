@@ -40,6 +40,8 @@
 #include <rayproof/oracle/contract.hpp>
 #include <rayproof/oracle/oracle.hpp>
 
+#include <rayproof/cli.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cinttypes>
@@ -240,48 +242,25 @@ bool wanted(const char* shape) {
     return list.find("," + std::string(shape) + ",") != std::string::npos;
 }
 
-int usage(const char* argv0) {
-    std::fprintf(stderr, "usage: %s [--cases N] [--cgal-cases N] [--seed S] [--shape aabb,obb,plane,sphere]\n"
-                 "       [--methods fast,certified,...] [--timeout SECONDS per method and workload]\n"
-                 "       [--show-method METHOD --show N]  print up to N cases per workload that METHOD gets wrong\n",
-                 argv0);
-    return 2;
-}
-
 }  // namespace
 }  // namespace rayproof::bench
 
 int main(int argc, char** argv) {
     using namespace rayproof;
     using namespace rayproof::bench;
-    for (int i = 1; i < argc; i += 2) {
-        const char* a = argv[i];
-        const char* v = i + 1 < argc ? argv[i + 1] : nullptr;
-        if (!std::strcmp(a, "-h") || !std::strcmp(a, "--help")) {
-            usage(argv[0]);
-            return 0;
-        }
-        if (!v) return usage(argv[0]);
-        if (!std::strcmp(a, "--cases"))
-            opts.cases = std::strtoull(v, nullptr, 10);
-        else if (!std::strcmp(a, "--cgal-cases"))
-            opts.cgal_cases = std::strtoull(v, nullptr, 10);
-        else if (!std::strcmp(a, "--seed"))
-            opts.seed = std::strtoull(v, nullptr, 0);
-        else if (!std::strcmp(a, "--shape"))
-            opts.shapes = v;
-        else if (!std::strcmp(a, "--methods"))
-            opts.methods = v;
-        else if (!std::strcmp(a, "--timeout"))
-            opts.timeout = std::strtod(v, nullptr);
-        else if (!std::strcmp(a, "--show-method"))
-            opts.show_method = v;
-        else if (!std::strcmp(a, "--show"))
-            opts.show = std::strtoull(v, nullptr, 10);
-        else
-            return usage(argv[0]);
-    }
-    if (opts.cases == 0) return usage(argv[0]);
+    CLI::App app{"Judges every method's answers on the timed workloads against the exact oracle (CSV).",
+                 "rayproof_trade_accuracy"};
+    app.option_defaults()->always_capture_default();
+    app.add_option("--cases", opts.cases, "cases judged per workload")->check(cli::positive);
+    app.add_option("--cgal-cases", opts.cgal_cases, "cases judged for the CGAL baselines (at most --cases)")
+        ->check(cli::non_negative);
+    app.add_option("--seed", opts.seed, "the workloads' seed (decimal or 0x hex)")->check(cli::non_negative);
+    app.add_option("--shape", opts.shapes, "the shapes, comma-separated");
+    app.add_option("--methods", opts.methods, "only these methods, comma-separated (default: all)");
+    app.add_option("--timeout", opts.timeout, "seconds per method and workload")->check(cli::non_negative);
+    app.add_option("--show-method", opts.show_method, "print the cases this method gets wrong, on stderr");
+    app.add_option("--show", opts.show, "with --show-method: at most N cases per workload")->check(cli::non_negative);
+    if (const auto stop = cli::parse(app, argc, argv)) return *stop;
     opts.cgal_cases = std::min(opts.cgal_cases, opts.cases);
     print_header();
     if (wanted("aabb")) run_shape<Aabb>();

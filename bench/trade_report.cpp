@@ -23,6 +23,11 @@
 // sections of trade_report.md.in, built into the program (trade_report_template.hpp).
 #include "trade_report_template.hpp"
 
+#include <rayproof/cli.hpp>
+
+#include <fmt/format.h>
+#include <fmt/ostream.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -261,33 +266,32 @@ std::map<std::string, Accuracy> read_accuracy(const std::vector<std::string>& pa
 }
 
 // ---- formatting -------------------------------------------------------------------
-std::string fmt(double x, int digits = 3) {
+std::string num(double x, int digits = 3) {
     if (std::isnan(x)) return "—";
-    char b[64];
-    if (x != 0 && (std::abs(x) >= 1e6 || std::abs(x) < 1e-3))
-        std::snprintf(b, sizeof b, "%.*g", digits, x);
-    else if (std::abs(x) >= 100)
-        std::snprintf(b, sizeof b, "%.0f", x);
-    else
-        std::snprintf(b, sizeof b, "%.*g", digits, x);
-    return b;
+    if (std::abs(x) >= 100 && std::abs(x) < 1e6) return fmt::format("{:.0f}", x);
+    return fmt::format("{:.{}g}", x, digits);
 }
-std::string fmt_ppm(double x) {
+std::string num_ppm(double x) {
     if (std::isnan(x)) return "—";
     if (x == 0) return "0";
-    return fmt(x, 3);
+    return num(x, 3);
 }
 // ulps: huge values (a wrong interval end, NaN) read better as powers of two.
-std::string fmt_ulps(const std::string& s) {
+std::string num_ulps(const std::string& s) {
     if (s == "n/a" || s.empty()) return "—";
     if (s == "inf") return "NaN t";
     const double v = std::stod(s);
-    if (v < 1e6) return s;
-    char b[32];
-    std::snprintf(b, sizeof b, "2^%.0f", std::log2(v));
-    return b;
+    return v < 1e6 ? s : fmt::format("2^{:.0f}", std::log2(v));
 }
-std::string pct(double x) { return std::isnan(x) ? "—" : fmt(100 * x, 2) + "%"; }
+std::string pct(double x) { return std::isnan(x) ? "—" : num(100 * x, 2) + "%"; }
+
+// A row of a Markdown table; the rule under a header: `left` columns aligned left, `right` right.
+std::string row(const std::vector<std::string>& cells) { return fmt::format("| {} |\n", fmt::join(cells, " | ")); }
+std::string rule(std::size_t left, std::size_t right) {
+    std::string o = "|";
+    for (std::size_t i = 0; i < left + right; ++i) o += i < left ? "---|" : "--:|";
+    return o + '\n';
+}
 
 // ---- the report -------------------------------------------------------------------
 struct Report {
@@ -322,27 +326,24 @@ struct Report {
 };
 
 std::string summary_table(const Report& r) {
-    std::ostringstream o;
-    o << "| shape | type | fast | conservative | certified | certified / fast | certified / fast, paired | certified, "
-         "verdict alone | textbook | branch-free slab | CGAL Epeck | Epeck / certified | Epeck / certified verdict | CGAL "
-         "rationals | Embree | exact stage (certified) |\n";
-    o << "|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
+    std::string o = row({"shape", "type", "fast", "conservative", "certified", "certified / fast",
+                         "certified / fast, paired", "certified, verdict alone", "textbook", "branch-free slab",
+                         "CGAL Epeck", "Epeck / certified", "Epeck / certified verdict", "CGAL rationals", "Embree",
+                         "exact stage (certified)"}) +
+                    rule(2, 14);
     for (const auto& s : kShapes)
         for (const auto& t : kTypes) {
-            const double f = r.ns(s, t, "uniform", "fast"), c = r.ns(s, t, "uniform", "certified");
-            const double e = r.ns(s, t, "uniform", "cgal_epeck"), v = r.ns(s, t, "uniform", "certified_verdict");
+            const auto ns = [&](const char* m) { return r.ns(s, t, "uniform", m); };
+            const double f = ns("fast"), c = ns("certified"), e = ns("cgal_epeck"), v = ns("certified_verdict");
             const double p = r.paired(s, t, "uniform", "certified_over_fast");
             const auto rate = r.rates.find("exact_stage/" + s + "/" + t + "/general");
-            o << "| " << kShapeLabel.at(s) << " | " << t << " | " << fmt(f) << " | "
-              << fmt(r.ns(s, t, "uniform", "conservative")) << " | " << fmt(c) << " | " << fmt(c / f, 3) << "× | "
-              << (std::isnan(p) ? std::string("—") : fmt(p, 3) + "×") << " | " << fmt(v)
-              << " | " << fmt(r.ns(s, t, "uniform", "textbook")) << " | " << fmt(r.ns(s, t, "uniform", "branchless")) << " | "
-              << fmt(e) << " | " << (std::isnan(e) ? std::string("—") : fmt(e / c, 3) + "×") << " | "
-              << (std::isnan(e) ? std::string("—") : fmt(e / v, 3) + "×") << " | "
-              << fmt(r.ns(s, t, "uniform", "cgal_rational")) << " | " << fmt(r.ns(s, t, "uniform", "embree")) << " | "
-              << (rate == r.rates.end() ? std::string("—") : fmt(rate->second, 3)) << " |\n";
+            o += row({kShapeLabel.at(s), t, num(f), num(ns("conservative")), num(c), num(c / f) + "×",
+                      std::isnan(p) ? "—" : num(p) + "×", num(v), num(ns("textbook")), num(ns("branchless")), num(e),
+                      std::isnan(e) ? "—" : num(e / c) + "×", std::isnan(e) ? "—" : num(e / v) + "×",
+                      num(ns("cgal_rational")), num(ns("embree")),
+                      rate == r.rates.end() ? "—" : num(rate->second)});
         }
-    return o.str();
+    return o;
 }
 
 // ---- the acceptance checks ----------------------------------------------------------
@@ -401,21 +402,21 @@ std::string target_check(const Report& r, const Target& g) {
     auto listed = [&](const std::string& s, const std::string& t) {
         return !g.measured_only || !std::isnan(r.ns(s, t, g.workload, g.num));
     };
-    Vars v = {{"limit", fmt(g.limit)},
+    Vars v = {{"limit", num(g.limit)},
               {"case", kShapeLabel.at(g.shape) + ", " + g.type},
               {"in_pairs", std::isnan(r.paired(g.shape, g.type, g.workload, g.pair)) ? "" : prose()("check.in_pairs")},
-              {"value", fmt(q, g.digits)},
+              {"value", num(q, g.digits)},
               {"mark", met ? "**yes**" : "**no**"},
-              {"medians", fmt(medians(r, g.shape, g.type, g, g.den), 3)}};
+              {"medians", num(medians(r, g.shape, g.type, g, g.den), 3)}};
     v["every"] = every_case([&](const std::string& s, const std::string& t) -> std::optional<std::string> {
         if (!listed(s, t)) return std::nullopt;
-        const std::string bracket = g.measured_only ? " [" + fmt(medians(r, s, t, g, g.den), 3) + "×]" : "";
-        return fmt(ratio(r, s, t, g), 3) + "×" + bracket;
+        const std::string bracket = g.measured_only ? " [" + num(medians(r, s, t, g, g.den), 3) + "×]" : "";
+        return num(ratio(r, s, t, g), 3) + "×" + bracket;
     });
     if (g.also_den)
         v["also"] = every_case([&](const std::string& s, const std::string& t) -> std::optional<std::string> {
             if (!listed(s, t)) return std::nullopt;
-            return fmt(medians(r, s, t, g, g.also_den), 3) + "×";
+            return num(medians(r, s, t, g, g.also_den), 3) + "×";
         });
     return prose()(std::string("check.") + g.pair, v) + '\n';
 }
@@ -424,7 +425,7 @@ std::string target_check(const Report& r, const Target& g) {
 std::string grazing_check(const Report& r) {
     const std::string every = every_case([&](const std::string& s, const std::string& t) -> std::optional<std::string> {
         const Accuracy* a = r.acc(s, t, "grazing", "fast");
-        return a ? fmt_ppm(a->per_million(a->wrong)) : "—";
+        return a ? num_ppm(a->per_million(a->wrong)) : "—";
     });
     return prose()("check.grazing", {{"every", every}}) + '\n';
 }
@@ -436,15 +437,15 @@ std::string embree_check(const Report& r) {
         const Accuracy* a = r.acc("sphere", "float", "far_small", m);
         if (!a) continue;
         methods += prose()("check.embree.method", {{"method", kMethodLabel.at(m)},
-                                                   {"wrong", fmt_ppm(a->per_million(a->wrong))},
-                                                   {"false_miss", fmt_ppm(a->per_million(a->false_miss))},
-                                                   {"refused", fmt(a->refused / a->cases * 1e6)},
-                                                   {"ulps", fmt_ulps(a->max_ulps)}}) +
+                                                   {"wrong", num_ppm(a->per_million(a->wrong))},
+                                                   {"false_miss", num_ppm(a->per_million(a->false_miss))},
+                                                   {"refused", num(a->refused / a->cases * 1e6)},
+                                                   {"ulps", num_ulps(a->max_ulps)}}) +
                    ' ';
     }
     if (const Accuracy* a = r.acc("sphere", "float", "far_small", "certified"))
-        certified = prose()("check.embree.certified", {{"wrong", fmt_ppm(a->per_million(a->wrong))},
-                                                       {"ulps", fmt_ulps(a->max_ulps)}});
+        certified = prose()("check.embree.certified", {{"wrong", num_ppm(a->per_million(a->wrong))},
+                                                       {"ulps", num_ulps(a->max_ulps)}});
     return prose()("check.embree", {{"methods", methods}, {"certified", certified}}) + '\n';
 }
 
@@ -460,10 +461,10 @@ std::string checks(const Report& r) {
 
 // ---- the tables of the full report --------------------------------------------------
 std::string shape_table(const Report& r, const std::string& s) {
-    std::ostringstream o;
-    o << "| type | workload | method | ns / query | spread | Mq/s | × fast | wrong / M | false miss / M | "
-         "face wrong / M | t not faithful / M | max t error (ulps) | cases judged |\n";
-    o << "|---|---|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|\n";
+    std::string o = row({"type", "workload", "method", "ns / query", "spread", "Mq/s", "× fast", "wrong / M",
+                         "false miss / M", "face wrong / M", "t not faithful / M", "max t error (ulps)",
+                         "cases judged"}) +
+                    rule(3, 10);
     for (const auto& t : kTypes)
         for (const auto& w : kWorkloads)
             for (const auto& m : kMethods) {
@@ -471,21 +472,21 @@ std::string shape_table(const Report& r, const std::string& s) {
                 const Accuracy* a = r.acc(s, t, w, m);
                 if (!tm && !a) continue;
                 const double ns = tm ? tm->ns : NAN, f = r.ns(s, t, w, "fast");
-                o << "| " << t << " | " << w << " | " << kMethodLabel.at(m) << " | " << fmt(ns) << " | "
-                  << (tm ? pct(tm->cv) : "—") << " | " << fmt(1e3 / ns) << " | " << fmt(ns / f, 3) << " | ";
+                o += fmt::format("| {} | {} | {} | {} | {} | {} | {} | ", t, w, kMethodLabel.at(m), num(ns),
+                                 tm ? pct(tm->cv) : "—", num(1e3 / ns), num(ns / f));
                 if (!a) {
-                    o << "— | — | — | — | — | — |\n";
+                    o += "— | — | — | — | — | — |\n";
                 } else if (a->status != "ok") {
-                    o << a->status << " | | | | | |\n";
+                    o += a->status + " | | | | | |\n";
                 } else {
-                    o << fmt_ppm(a->per_million(a->wrong)) << " | " << fmt_ppm(a->per_million(a->false_miss)) << " | "
-                      << (a->face_mismatch < 0 ? "—" : fmt_ppm(a->per_million(a->face_mismatch))) << " | "
-                      << (a->t_off < 0 ? "—" : fmt_ppm(a->per_million(a->t_off))) << " | " << fmt_ulps(a->max_ulps)
-                      << " | " << fmt(a->cases, 6) << (a->refused > 0 ? " (" + fmt(a->refused, 6) + " refused)" : "")
-                      << " |\n";
+                    const auto per_m = [&](double x) { return x < 0 ? "—" : num_ppm(a->per_million(x)); };
+                    o += fmt::format("{} | {} | {} | {} | {} | {}{} |\n", per_m(a->wrong), per_m(a->false_miss),
+                                     per_m(a->face_mismatch), per_m(a->t_off), num_ulps(a->max_ulps),
+                                     num(a->cases, 6),
+                                     a->refused > 0 ? " (" + num(a->refused, 6) + " refused)" : "");
                 }
             }
-    return o.str();
+    return o;
 }
 
 std::string batch_size(long n) {
@@ -502,23 +503,20 @@ std::string batch_table(const Report& r) {
     }
     std::sort(sizes.begin(), sizes.end());
     if (sizes.empty()) return prose()("batch.none");
-    std::ostringstream o;
-    o << "| shape | type | mode |";
-    for (long n : sizes) o << ' ' << batch_size(n) << " |";
-    o << "\n|---|---|---|";
-    for (std::size_t i = 0; i < sizes.size(); ++i) o << "--:|";
-    o << '\n';
+    std::vector<std::string> cells = {"shape", "type", "mode"};
+    for (long n : sizes) cells.push_back(batch_size(n));
+    std::string o = row(cells) + rule(3, sizes.size());
     for (const auto& s : kShapes)
         for (const auto& t : kTypes)
             for (const char* m : {"fast", "conservative", "certified"}) {
-                o << "| " << kShapeLabel.at(s) << " | " << t << " | " << m << " |";
+                cells = {kShapeLabel.at(s), t, m};
                 for (long n : sizes) {
                     const auto it = r.timing.find("batch/" + s + "/" + t + "/" + m + "/" + std::to_string(n));
-                    o << ' ' << (it == r.timing.end() ? "—" : fmt(1e3 / it->second.ns)) << " |";
+                    cells.push_back(it == r.timing.end() ? "—" : num(1e3 / it->second.ns));
                 }
-                o << '\n';
+                o += row(cells);
             }
-    return prose()("batch", {{"table", o.str()}});
+    return prose()("batch", {{"table", o}});
 }
 
 // The generators with exact-stage counts, in the registry's order, unknown ones last.
@@ -542,27 +540,22 @@ std::vector<std::string> counted_generators(const Report& r) {
 std::string exact_stage_table(const Report& r) {
     const std::vector<std::string> gens = counted_generators(r);
     if (gens.empty()) return prose()("exact_stage.none");
-    std::ostringstream o;
-    o << "| shape | type |";
-    for (const auto& g : gens) o << ' ' << (g == "general" ? "general (uniform)" : g) << " |";
-    o << "\n|---|---|";
-    for (std::size_t i = 0; i < gens.size(); ++i) o << "--:|";
-    o << '\n';
+    std::vector<std::string> cells = {"shape", "type"};
+    for (const auto& g : gens) cells.push_back(g == "general" ? "general (uniform)" : g);
+    std::string o = row(cells) + rule(2, gens.size());
     for (const auto& s : kShapes)
         for (const auto& t : kTypes) {
-            o << "| " << kShapeLabel.at(s) << " | " << t << " |";
+            cells = {kShapeLabel.at(s), t};
             for (const auto& g : gens) {
                 const std::string key = "exact_stage/" + s + "/" + t + "/" + g;
                 const auto it = r.rates.find(key);
                 const auto q = r.rates.find(key + "#queries");
-                if (it == r.rates.end() || q == r.rates.end() || q->second == 0)
-                    o << " — |";
-                else
-                    o << ' ' << fmt(it->second, 3) << " |";
+                const bool counted = it != r.rates.end() && q != r.rates.end() && q->second != 0;
+                cells.push_back(counted ? num(it->second) : "—");
             }
-            o << '\n';
+            o += row(cells);
         }
-    return o.str();
+    return o;
 }
 
 std::string tracer_table(const Report& r, const std::string& png) {
@@ -577,15 +570,14 @@ std::string tracer_table(const Report& r, const std::string& png) {
         if (std::find(order.begin(), order.end(), name) == order.end()) order.push_back(name);
     }
     const double pw = wall.count("povray") ? wall["povray"] : NAN, pc = cpu.count("povray") ? cpu["povray"] : NAN;
-    std::ostringstream o;
-    o << "| renderer | wall s | ÷ POV-Ray | CPU s | ÷ POV-Ray |\n|---|--:|--:|--:|--:|\n";
+    std::string o = row({"renderer", "wall s", "÷ POV-Ray", "CPU s", "÷ POV-Ray"}) + rule(1, 4);
     for (const auto& name : order) {
         const double w = wall.count(name) ? wall[name] : NAN, c = cpu.count(name) ? cpu[name] : NAN;
-        o << "| " << (name == "povray" ? "POV-Ray 3.7 (exported scene)" : "rayproof render, " + name) << " | "
-          << fmt(w, 3) << " | " << fmt(w / pw, 3) << " | " << fmt(c, 3) << " | " << fmt(c / pc, 3) << " |\n";
+        o += row({name == "povray" ? "POV-Ray 3.7 (exported scene)" : "rayproof render, " + name, num(w),
+                  num(w / pw), num(c), num(c / pc)});
     }
-    if (!png.empty()) o << prose()("tracer.image", {{"png", png}});
-    return o.str();
+    if (!png.empty()) o += prose()("tracer.image", {{"png", png}});
+    return o;
 }
 
 // ---- the plot -----------------------------------------------------------------------
@@ -600,9 +592,9 @@ void write_plot_data(const Report& r, const std::string& path) {
     const std::map<std::string, int> pt_open = {{"aabb", 4}, {"obb", 6}, {"plane", 8}, {"sphere", 12}};
     const double floor_ppm = 0.5;
     for (const auto& w : kWorkloads) {
-        dat << "# workload " << w << '\n';
+        fmt::print(dat, "# workload {}\n", w);
         for (const auto& m : kMethods) {
-            dat << "# method " << m << '\n';
+            fmt::print(dat, "# method {}\n", m);
             int rows = 0;
             for (const auto& s : kShapes)
                 for (const auto& t : kTypes) {
@@ -610,8 +602,8 @@ void write_plot_data(const Report& r, const std::string& path) {
                     const Accuracy* a = r.acc(s, t, w, m);
                     if (!tm || !a || a->status != "ok" || a->answered() <= 0) continue;
                     const double ppm = a->per_million(a->wrong);
-                    dat << tm->ns << ' ' << std::max(ppm, floor_ppm) << ' ' << pt_open.at(s) + (t == "double")
-                        << ' ' << s << ' ' << t << '\n';
+                    fmt::print(dat, "{:g} {:g} {} {} {}\n", tm->ns, std::max(ppm, floor_ppm),
+                               pt_open.at(s) + (t == "double"), s, t);
                     ++rows;
                 }
             if (rows == 0) dat << "NaN NaN 1 none none\n";
@@ -626,10 +618,10 @@ void write_plot_legend(std::ostream& gp) {
           "border\nset xrange [0:10]\nset yrange [0:10]\n";
     for (std::size_t mi = 0; mi < kMethods.size(); ++mi) {
         const double y = 9.3 - 0.85 * double(mi);
-        gp << "set label " << mi + 1 << " '" << kMethodLabel.at(kMethods[mi]) << "' at 1.2," << y
-           << " tc rgb '" << kColors[mi] << "' font ',11'\n";
-        gp << "set object " << mi + 1 << " circle at 0.6," << y << " size 0.18 fc rgb '" << kColors[mi]
-           << "' fs solid noborder\n";
+        fmt::print(gp, "set label {} '{}' at 1.2,{:g} tc rgb '{}' font ',11'\n", mi + 1, kMethodLabel.at(kMethods[mi]),
+                   y, kColors[mi]);
+        fmt::print(gp, "set object {} circle at 0.6,{:g} size 0.18 fc rgb '{}' fs solid noborder\n", mi + 1, y,
+                   kColors[mi]);
     }
     gp << "set label 20 'point: Aabb square, Obb circle,' at 5.2,9.3\n";
     gp << "set label 21 'Plane triangle, Sphere diamond;' at 5.2,8.45\n";
@@ -642,7 +634,7 @@ void write_plot_script(const std::string& path, const std::string& png) {
     std::ofstream gp(path);
     if (kColors.size() < kMethods.size()) throw std::logic_error("trade_report: a color per method is missing");
     gp << "set terminal pngcairo size 1500,900 font 'DejaVu Sans,10'\n";
-    gp << "set output '" << png << "'\n";
+    fmt::print(gp, "set output '{}'\n", png);
     gp << "set multiplot layout 2,3 title 'Time per query against wrong verdicts (per million, judged by the exact "
           "oracle); 0 drawn on the floor'\n";
     gp << "set logscale xy\nset xrange [1:3e5]\nset yrange [0.3:2e6]\n";
@@ -652,12 +644,10 @@ void write_plot_script(const std::string& path, const std::string& png) {
           "million'\n";
     int wi = 0;
     for (const auto& w : kWorkloads) {
-        gp << "set title '" << kWorkloadLabel.at(w) << "'\n";
-        gp << "plot ";
-        for (std::size_t mi = 0; mi < kMethods.size(); ++mi) {
-            gp << (mi ? ", " : "") << "'trade.dat' index " << wi * int(kMethods.size()) + int(mi)
-               << " using 1:2:3 with points pt variable ps 1.6 lc rgb '" << kColors[mi] << "'";
-        }
+        fmt::print(gp, "set title '{}'\nplot ", kWorkloadLabel.at(w));
+        for (std::size_t mi = 0; mi < kMethods.size(); ++mi)
+            fmt::print(gp, "{}'trade.dat' index {} using 1:2:3 with points pt variable ps 1.6 lc rgb '{}'",
+                       mi ? ", " : "", wi * kMethods.size() + mi, kColors[mi]);
         gp << '\n';
         ++wi;
     }
@@ -671,39 +661,29 @@ struct Args {
     std::vector<std::pair<std::string, std::string>> meta;
 };
 
-int usage() {
-    std::cerr << "usage: rayproof_trade_report --bench B.json [--counters C.json] [--accuracy A.csv ...]\n"
-                 "       [--tracer T.txt] [--meta KEY=VALUE ...] [--md OUT.md] [--plot-dir DIR --plot-png PNG]\n"
-                 "       [--plot-ref NAME] [--tracer-png NAME] [--audit AUDIT.md] [--summary-md OUT.md]\n";
-    return 2;
-}
-
 // The exit status when the program is to stop (help, a usage error), else nothing.
 std::optional<int> parse_args(int argc, char** argv, Args& a) {
-    const std::map<std::string, std::string Args::*> paths = {
-        {"--bench", &Args::bench},       {"--counters", &Args::counters}, {"--tracer", &Args::tracer},
-        {"--md", &Args::md},             {"--plot-dir", &Args::plot_dir}, {"--plot-png", &Args::plot_png},
-        {"--plot-ref", &Args::plot_ref}, {"--tracer-png", &Args::tracer_png}, {"--audit", &Args::audit},
-        {"--summary-md", &Args::summary_md}};
-    for (int i = 1; i < argc; ++i) {
-        const std::string flag = argv[i];
-        if (flag == "-h" || flag == "--help") {
-            usage();
-            return 0;
-        }
-        if (i + 1 >= argc) return usage();
-        const std::string v = argv[++i];
-        if (const auto it = paths.find(flag); it != paths.end()) {
-            a.*(it->second) = v;
-        } else if (flag == "--accuracy") {
-            a.accuracy.push_back(v);
-        } else if (flag == "--meta" && v.find('=') != std::string::npos) {
-            a.meta.emplace_back(v.substr(0, v.find('=')), v.substr(v.find('=') + 1));
-        } else {
-            return usage();
-        }
-    }
-    if (a.bench.empty()) return usage();
+    CLI::App app{"Turns one run of the trade into its report (Markdown, plot data, the checks on stdout).",
+                 "rayproof_trade_report"};
+    std::vector<std::string> meta;
+    app.add_option("--bench", a.bench, "rayproof_bench's JSON")->required();
+    app.add_option("--counters", a.counters, "rayproof_bench_counters' JSON");
+    app.add_option("--accuracy", a.accuracy, "rayproof_trade_accuracy's CSV (repeatable)");
+    app.add_option("--tracer", a.tracer, "the tracer timings: lines LABEL SECONDS");
+    app.add_option("--meta", meta, "a line of the report's head (repeatable)")
+        ->type_name("KEY=VALUE")
+        ->check(CLI::Validator(
+            [](const std::string& v) { return v.find('=') == std::string::npos ? "expects KEY=VALUE, got " + v : ""; },
+            ""));
+    app.add_option("--md", a.md, "write the full report here");
+    app.add_option("--plot-dir", a.plot_dir, "write trade.dat and trade.gp here (with --plot-png)");
+    app.add_option("--plot-png", a.plot_png, "the image trade.gp draws");
+    app.add_option("--plot-ref", a.plot_ref, "the plot's name as the report refers to it");
+    app.add_option("--tracer-png", a.tracer_png, "the tracer comparison image's name as the report refers to it");
+    app.add_option("--audit", a.audit, "rayproof-audit's Markdown, included in the report");
+    app.add_option("--summary-md", a.summary_md, "write the README's summary here");
+    if (const auto stop = rayproof::cli::parse(app, argc, argv)) return stop;
+    for (const auto& m : meta) a.meta.emplace_back(m.substr(0, m.find('=')), m.substr(m.find('=') + 1));
     return std::nullopt;
 }
 
@@ -731,7 +711,7 @@ std::string head(const Report& r) {
     const bool load = c.contains("load_avg") && c["load_avg"].is_array() && !c["load_avg"].empty();
     return o + prose()("head.cpu", {{"cpus", std::to_string(c.value("num_cpus", 0))},
                                     {"mhz", std::to_string(c.value("mhz_per_cpu", 0))},
-                                    {"load", load ? fmt(c["load_avg"][0].get<double>(), 3) : ""}}) +
+                                    {"load", load ? num(c["load_avg"][0].get<double>(), 3) : ""}}) +
            '\n';
 }
 

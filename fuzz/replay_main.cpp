@@ -7,6 +7,8 @@
 // 2 on a usage error. `-v` prints each file name before running it.
 #include "fuzz_common.hpp"
 
+#include <rayproof/cli.hpp>
+
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -31,14 +33,15 @@ bool hidden(const fs::path& p) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    CLI::App app{"Runs the fuzz target once on each file given, and on every file under each directory given.",
+                 fs::path(argv[0]).filename().string()};
     bool verbose = false;
+    std::vector<std::string> args;
+    app.add_flag("-v", verbose, "print each file name before running it");
+    app.add_option("FILE_OR_DIR", args, "the inputs")->required();
+    if (const auto stop = rayproof::cli::parse(app, argc, argv)) return *stop;
     std::vector<fs::path> files;
-    for (int i = 1; i < argc; ++i) {
-        const std::string arg = argv[i];
-        if (arg == "-v") {
-            verbose = true;
-            continue;
-        }
+    for (const std::string& arg : args) {
         std::error_code ec;
         if (fs::is_directory(arg, ec)) {
             std::vector<fs::path> found;
@@ -56,12 +59,8 @@ int main(int argc, char** argv) {
             files.emplace_back(arg);
         } else {
             std::cerr << argv[0] << ": no such file or directory: " << arg << '\n';
-            return 2;
+            return rayproof::cli::usage_error;
         }
-    }
-    if (argc < 2) {
-        std::cerr << "usage: " << argv[0] << " [-v] FILE_OR_DIR...\n";
-        return 2;
     }
     std::size_t bytes = 0;
     for (const fs::path& f : files) {

@@ -12,8 +12,9 @@
 #include <rayproof/generators.hpp>
 #include <rayproof/io.hpp>
 
+#include <rayproof/cli.hpp>
+
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -69,22 +70,23 @@ template <template <class> class Shape> int both(const std::string& target, cons
 }  // namespace
 
 int main(int argc, char** argv) {
-    const std::string cmd = argc > 1 ? argv[1] : "";
-    if (cmd == "write" && argc >= 3) {
-        const fs::path dir = argv[2];
-        const int n = argc > 3 ? std::atoi(argv[3]) : 6;
-        const int f = both<Aabb>("ray_aabb_fuzz", &dir, n) + both<Obb>("ray_obb_fuzz", &dir, n) +
-                      both<Plane>("ray_plane_fuzz", &dir, n) + both<Sphere>("ray_sphere_fuzz", &dir, n);
-        std::cout << "seed corpora written to " << dir.string() << (f ? " with failures" : "") << '\n';
-        return f ? 1 : 0;
-    }
-    if (cmd == "check") {
-        const int n = argc > 2 ? std::atoi(argv[2]) : 200;
-        const int f = both<Aabb>("ray_aabb_fuzz", nullptr, n) + both<Obb>("ray_obb_fuzz", nullptr, n) +
-                      both<Plane>("ray_plane_fuzz", nullptr, n) + both<Sphere>("ray_sphere_fuzz", nullptr, n);
+    CLI::App app{"Writes the fuzz targets' seed corpora; checks the byte format's round trip.", "rayproof_fuzz_seeds"};
+    app.require_subcommand(1);
+    std::string dir;
+    int n = 0;
+    CLI::App& write = *app.add_subcommand("write", "write DIR/<target>/<float|double>-<generator>-<k>, k = 1..N (6)");
+    write.add_option("DIR", dir, "the corpus directory")->required();
+    CLI::App& check = *app.add_subcommand("check", "encode then decode is the identity, bit for bit, on N cases (200)");
+    for (CLI::App* c : {&write, &check})
+        c->add_option("N", n, "cases per generator and scalar type")->check(CLI::Range(1, 1 << 20));
+    if (const auto stop = rayproof::cli::parse(app, argc, argv)) return *stop;
+    const fs::path d = dir, *out = write.parsed() ? &d : nullptr;
+    if (n == 0) n = out ? 6 : 200;
+    const int f = both<Aabb>("ray_aabb_fuzz", out, n) + both<Obb>("ray_obb_fuzz", out, n) +
+                  both<Plane>("ray_plane_fuzz", out, n) + both<Sphere>("ray_sphere_fuzz", out, n);
+    if (out)
+        std::cout << "seed corpora written to " << d.string() << (f ? " with failures" : "") << '\n';
+    else
         std::cout << (f ? "round trip FAILED" : "encode/decode round trip: ok") << '\n';
-        return f ? 1 : 0;
-    }
-    std::cerr << "usage: " << argv[0] << " write DIR [N] | check [N]\n";
-    return 2;
+    return f ? 1 : 0;
 }

@@ -6,6 +6,7 @@
 #   RAYPROOF_FUZZ_RENDER_TARGETS  the targets that link the tracer
 #   RAYPROOF_FUZZ_SANITIZER_FLAGS the flags of fuzz/sanitizers.txt, as a list
 set(RAYPROOF_FUZZ_DIR ${CMAKE_CURRENT_LIST_DIR})
+include(${RAYPROOF_FUZZ_DIR}/../tools/cli/cli.cmake)
 set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS
              ${RAYPROOF_FUZZ_DIR}/targets.txt ${RAYPROOF_FUZZ_DIR}/sanitizers.txt)
 
@@ -65,6 +66,7 @@ function(rayproof_add_fuzz_replay harness)
   endif()
   add_executable(${harness}_replay ${RAYPROOF_FUZZ_DIR}/${harness}.cpp ${RAYPROOF_FUZZ_DIR}/replay_main.cpp)
   rayproof_fuzz_link(${harness}_replay ${harness})
+  target_link_libraries(${harness}_replay PRIVATE rayproof_cli)
 endfunction()
 
 # rayproof_fuzz_seeds: writes the seed corpora, checks the byte format's round trip.
@@ -74,6 +76,6 @@ function(rayproof_add_fuzz_seeds)
   endif()
   add_executable(rayproof_fuzz_seeds ${RAYPROOF_FUZZ_DIR}/seeds.cpp)
   target_include_directories(rayproof_fuzz_seeds PRIVATE ${RAYPROOF_FUZZ_DIR} ${RAYPROOF_FDP_DIR})
-  target_link_libraries(rayproof_fuzz_seeds PRIVATE rayproof::generators rayproof::kernel)
+  target_link_libraries(rayproof_fuzz_seeds PRIVATE rayproof::generators rayproof::kernel rayproof_cli)
   target_compile_options(rayproof_fuzz_seeds PRIVATE ${RAYPROOF_WARNINGS})
 endfunction()

@@ -12,6 +12,7 @@ RAYPROOF_PACKAGES=(
   nlohmann-json3-dev libpng-dev libembree-dev
   povray gnuplot-nox pkg-config
   pybind11-dev python3-dev python3-numpy python3-hypothesis python3-pytest
+  libcli11-dev libfmt-dev
 )
 
 install_missing() {

@@ -1,40 +1,22 @@
-// rayproof — the command-line program: subcommand dispatch.
-#include <cstdio>
-#include <cstring>
+// rayproof — the command-line program: one subcommand per task, each with its own --help.
+#include <rayproof/cli.hpp>
 
 #ifdef RAYPROOF_HAVE_RENDER
 #include <rayproof/render/cli.hpp>
 #endif
 
-int rayproof_cli_showcase(int argc, char** argv);
-
-namespace {
-struct Command {
-    const char* name;
-    int (*run)(int, char**);
-    const char* help;
-};
-const Command commands[] = {
-    {"showcase", rayproof_cli_showcase, "a table of showcase rays answered by every shape and mode"},
-#ifdef RAYPROOF_HAVE_RENDER
-    {"render", rayproof_cli_render, "render a scene file (rayproof render SCENE.json -o out.png; --help)"},
-    {"export-pov", rayproof_cli_export_pov, "print a scene file as a POV-Ray 3.7 scene"},
-#endif
-};
-
-int usage(std::FILE* f) {
-    std::fprintf(f, "usage: rayproof COMMAND [ARGS...]\n\ncommands:\n");
-    for (const Command& c : commands) std::fprintf(f, "  %-12s %s\n", c.name, c.help);
-    return f == stdout ? 0 : 2;
-}
-}  // namespace
+int rayproof_showcase();
 
 int main(int argc, char** argv) {
-    if (argc < 2) return usage(stderr);
-    if (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help"))
-        return usage(stdout);
-    for (const Command& c : commands)
-        if (!std::strcmp(argv[1], c.name)) return c.run(argc - 1, argv + 1);
-    std::fprintf(stderr, "rayproof: unknown command '%s'\n\n", argv[1]);
-    return usage(stderr);
+    CLI::App app{"The rayproof ray intersection kernel from the command line.", "rayproof"};
+    app.require_subcommand(1);
+    int status = 0;
+    app.add_subcommand("showcase", "a table of showcase rays answered by every shape and mode")->callback([&status] {
+        status = rayproof_showcase();
+    });
+#ifdef RAYPROOF_HAVE_RENDER
+    rayproof::render::add_commands(app, status);
+#endif
+    if (const auto stop = rayproof::cli::parse(app, argc, argv)) return *stop;
+    return status;
 }

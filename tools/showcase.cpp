@@ -46,7 +46,7 @@ template <class Shape> void table(const char* shape_name, std::initializer_list<
 
 }  // namespace
 
-int rayproof_cli_showcase(int, char**) {
+int rayproof_showcase() {
     const double inf = std::numeric_limits<double>::infinity();
     const Aabb<double> cube{V(-1, -1, -1), V(1, 1, 1)};
     std::printf("rayproof showcase: double precision; the cube is [-1,1]^3\n");

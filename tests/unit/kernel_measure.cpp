@@ -15,6 +15,8 @@
 #include <rayproof/rayproof.hpp>
 #include <valgrind/callgrind.h>
 
+#include <rayproof/cli.hpp>
+
 #include <bit>
 #include <cstdint>
 #include <cstdio>
@@ -144,17 +146,21 @@ template <class F> void each(F&& f) {
 }
 
 int main(int argc, char** argv) {
-    const std::string what = argc > 1 ? argv[1] : "hash";
-    const std::size_t n = argc > 2 ? std::strtoull(argv[2], nullptr, 10) : 200000;
-    if (argc > 3) only_shape = argv[3];
+    CLI::App app{"Evidence that a change to the kernel changed no answer and no cost.", "kernel_measure"};
+    std::string what = "hash", shape;
+    std::size_t n = 200000;
+    app.add_option("what", what, "hash (default), count, rates (kernel_measure_counters)")
+        ->check(CLI::IsMember({"hash", "count", "rates"}));
+    app.add_option("cases", n, "cases per combination")->capture_default_str();
+    app.add_option("Shape", shape, "count: this shape alone")->check(CLI::IsMember({"Aabb", "Obb", "Plane", "Sphere"}));
+    if (const auto stop = rayproof::cli::parse(app, argc, argv)) return *stop;
+    if (!shape.empty()) only_shape = shape.c_str();
     if (what == "hash") each([&]<class T, class S>() { hash_shape<T, S>(n); });
-    else if (what == "count") each([&]<class T, class S>() { count_shape<T, S>(n); });
+    if (what == "count") each([&]<class T, class S>() { count_shape<T, S>(n); });
 #ifdef RAYPROOF_COUNTERS
-    else if (what == "rates") each([&]<class T, class S>() { rates_shape<T, S>(n); });
+    if (what == "rates") each([&]<class T, class S>() { rates_shape<T, S>(n); });
+#else
+    if (what == "rates") return rayproof::cli::report(app, CLI::ValidationError("what", "rates: run kernel_measure_counters"));
 #endif
-    else {
-        std::fprintf(stderr, "usage: kernel_measure hash|count|rates [cases] [Shape]\n");
-        return 2;
-    }
     return 0;
 }

@@ -20,20 +20,21 @@
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
 
+#include <rayproof/cli.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cctype>
-#include <cerrno>
 #include <cinttypes>
 #include <cstdint>
 #include <cstdio>
-#include <cstdlib>
 #include <functional>
 #include <iomanip>
 #include <iostream>
 #include <limits>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -52,61 +53,25 @@ struct Options {
     bool check = false, list = false, progress = false;
 };
 
-[[noreturn]] void usage(const char* msg) {
-    if (msg) std::cerr << "rayproof-audit: " << msg << "\n";
-    std::cerr << "usage: rayproof-audit [--cases N] [--seed S] [--shape aabb|obb|plane|sphere|all]\n"
-                 "                      [--type float|double|all] [--generator NAME] [--format md|csv]\n"
-                 "                      [--jobs J] [--examples K] [--check] [--list] [--progress]\n"
-                 "  --cases N      cases per generator, shape and scalar type (default 10000)\n"
-                 "  --seed S       master seed (default 0x5eed; decimal or 0x hex)\n"
-                 "  --shape        restrict to one shape (default all four)\n"
-                 "  --type         restrict to one scalar type (default both)\n"
-                 "  --generator    restrict to one generator name (see --list)\n"
-                 "  --format       md (a Markdown table with a legend) or csv\n"
-                 "  --jobs J       rows computed in parallel (default: hardware threads)\n"
-                 "  --examples K   print the first K wrong answers of each row (hexfloat, with seeds)\n"
-                 "  --check        exit 1 when any mode breaks its contract (see the legend)\n"
-                 "  --list         list the generators of each shape and exit\n"
-                 "  --progress     report each finished generator (and its time) on stderr\n";
-    std::exit(2);
-}
-
-std::uint64_t parse_u64(const char* s, const char* what) {
-    char* end = nullptr;
-    errno = 0;
-    const unsigned long long v = std::strtoull(s, &end, 0);
-    if (errno || !end || *end || s[0] == '-') usage((std::string("bad number for ") + what).c_str());
-    return v;
-}
-
-Options parse(int argc, char** argv) {
-    Options o;
-    for (int i = 1; i < argc; ++i) {
-        const std::string a = argv[i];
-        const auto value = [&]() -> const char* {
-            if (i + 1 >= argc) usage(("missing value after " + a).c_str());
-            return argv[++i];
-        };
-        if (a == "--cases") o.cases = parse_u64(value(), "--cases");
-        else if (a == "--seed") o.seed = parse_u64(value(), "--seed");
-        else if (a == "--shape") o.shape = value();
-        else if (a == "--type") o.type = value();
-        else if (a == "--generator") o.generator = value();
-        else if (a == "--format") o.format = value();
-        else if (a == "--jobs") o.jobs = unsigned(parse_u64(value(), "--jobs"));
-        else if (a == "--examples") o.examples = unsigned(parse_u64(value(), "--examples"));
-        else if (a == "--check") o.check = true;
-        else if (a == "--list") o.list = true;
-        else if (a == "--progress") o.progress = true;
-        else if (a == "-h" || a == "--help") usage(nullptr);
-        else usage(("unknown argument " + a).c_str());
-    }
-    if (o.format != "md" && o.format != "csv") usage("--format must be md or csv");
-    if (o.shape != "all" && o.shape != "aabb" && o.shape != "obb" && o.shape != "plane" && o.shape != "sphere")
-        usage("--shape must be aabb, obb, plane, sphere or all");
-    if (o.type != "all" && o.type != "float" && o.type != "double") usage("--type must be float, double or all");
-    if (o.cases == 0) usage("--cases must be positive");
-    return o;
+// The command line into o; the exit status when the program is to stop.
+std::optional<int> parse(int argc, char** argv, Options& o) {
+    CLI::App app{"What each mode costs in accuracy, measured against the exact oracle.", "rayproof-audit"};
+    app.option_defaults()->always_capture_default();
+    app.add_option("--cases", o.cases, "cases per generator, shape and scalar type")->check(cli::positive);
+    app.add_option("--seed", o.seed, "master seed (decimal or 0x hex)")->check(cli::non_negative);
+    app.add_option("--shape", o.shape, "restrict to one shape")
+        ->check(CLI::IsMember({"aabb", "obb", "plane", "sphere", "all"}));
+    app.add_option("--type", o.type, "restrict to one scalar type")->check(CLI::IsMember({"float", "double", "all"}));
+    app.add_option("--generator", o.generator, "restrict to one generator name (see --list)");
+    app.add_option("--format", o.format, "md (a Markdown table with a legend) or csv")
+        ->check(CLI::IsMember({"md", "csv"}));
+    app.add_option("--jobs", o.jobs, "rows computed in parallel (default: hardware threads)")->check(cli::non_negative);
+    app.add_option("--examples", o.examples, "print the first K wrong answers of each row (hexfloat, with seeds)")
+        ->check(cli::non_negative);
+    app.add_flag("--check", o.check, "exit 1 when any mode breaks its contract (see the legend)");
+    app.add_flag("--list", o.list, "list the generators of each shape and exit");
+    app.add_flag("--progress", o.progress, "report each finished generator (and its time) on stderr");
+    return cli::parse(app, argc, argv);
 }
 
 // SplitMix64 (Steele, Lea, Flood 2014): a portable mix of the row identity and index.
@@ -243,7 +208,8 @@ std::string ulps_text(std::uint64_t u) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    const Options o = parse(argc, argv);
+    Options o;
+    if (const auto stop = parse(argc, argv, o)) return *stop;
     if (o.list) {
         list_generators<double, Aabb<double>>();
         list_generators<double, Obb<double>>();
@@ -260,7 +226,11 @@ int main(int argc, char** argv) {
     add_jobs<double, Plane<double>>(o, jobs);
     add_jobs<float, Sphere<float>>(o, jobs);
     add_jobs<double, Sphere<double>>(o, jobs);
-    if (jobs.empty()) usage("no generator matches --generator");
+    if (jobs.empty()) {
+        std::cerr << "rayproof-audit: --generator: no generator of the shapes chosen is named '" << o.generator
+                  << "' (see --list)\n";
+        return cli::usage_error;
+    }
 
     const auto start = std::chrono::steady_clock::now();
     const unsigned hw = std::max(1u, std::thread::hardware_concurrency());

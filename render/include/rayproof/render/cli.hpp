@@ -1,7 +1,14 @@
 // rayproof/render/cli.hpp — the `render` and `export-pov` subcommands of the rayproof
-// program. argv[0] is the subcommand name; the return value is the exit status
-// (0 success, 1 failure, 2 usage error).
+// program. Running one of them sets `status`: 0 success, 1 failure (a bad scene, a file
+// that cannot be read or written); usage errors stop the parse (rayproof/cli.hpp, exit 2).
 #pragma once
 
-int rayproof_cli_render(int argc, char** argv);
-int rayproof_cli_export_pov(int argc, char** argv);
+namespace CLI {
+class App;
+}
+
+namespace rayproof::render {
+
+void add_commands(CLI::App& app, int& status);
+
+}  // namespace rayproof::render

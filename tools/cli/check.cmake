@@ -1,0 +1,27 @@
+# Runs PROGRAM with ARGS (comma-separated) and fails unless it exits with STATUS and names
+# every word of WORDS (comma-separated): on stdout when STATUS is 0, else in the first line
+# of stderr, which must also show the usage. cmake -DPROGRAM=... -DARGS=... -DSTATUS=...
+# -DWORDS=... -P check.cmake; see rayproof_cli_tests in cli.cmake.
+string(REPLACE "," ";" args "${ARGS}")
+string(REPLACE "," ";" words "${WORDS}")
+execute_process(COMMAND ${PROGRAM} ${args} RESULT_VARIABLE status OUTPUT_VARIABLE out ERROR_VARIABLE err)
+set(all "exit status ${status}; stdout:\n${out}\nstderr:\n${err}")
+if(NOT status STREQUAL STATUS)
+  message(FATAL_ERROR "expected exit status ${STATUS}, got ${all}")
+endif()
+if(STATUS EQUAL 0)
+  set(text "${out}")
+else()
+  string(FIND "${err}" "\n" eol)
+  string(SUBSTRING "${err}" 0 ${eol} text)
+  string(FIND "${err}" "Usage: " at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "no usage on stderr: ${all}")
+  endif()
+endif()
+foreach(w IN LISTS words)
+  string(FIND "${text}" "${w}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "'${w}' is not named: ${all}")
+  endif()
+endforeach()
