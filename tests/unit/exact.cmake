@@ -22,3 +22,15 @@ foreach(t exact_test compensated_test)
   # The random suites are seeded; RAYPROOF_SEED=<decimal> in the environment replays a run.
   gtest_discover_tests(${t} PROPERTIES LABELS unit)
 endforeach()
+
+# The same exact-arithmetic suite with BigDyadic on the portable two-limb product
+# (rayproof/detail/limbs.hpp), as on a compiler without unsigned __int128.
+add_executable(exact_test_portable_limbs ${CMAKE_CURRENT_LIST_DIR}/exact_test.cpp)
+target_compile_definitions(exact_test_portable_limbs PRIVATE RAYPROOF_PORTABLE_LIMBS=1)
+target_include_directories(exact_test_portable_limbs SYSTEM PRIVATE ${RAYPROOF_GMPXX_INCLUDE_DIR})
+target_link_libraries(exact_test_portable_limbs PRIVATE rayproof::kernel GTest::gtest_main
+                      ${RAYPROOF_GMPXX_LIBRARY} ${RAYPROOF_GMP_LIBRARY})
+if(DEFINED RAYPROOF_WARNINGS)
+  target_compile_options(exact_test_portable_limbs PRIVATE ${RAYPROOF_WARNINGS})
+endif()
+gtest_discover_tests(exact_test_portable_limbs TEST_PREFIX portable_limbs. PROPERTIES LABELS unit)

@@ -22,6 +22,10 @@
 #include <utility>
 #include <vector>
 
+#if defined(RAYPROOF_PORTABLE_LIMBS)
+static_assert(RAYPROOF_INT128_LIMBS == 0, "RAYPROOF_PORTABLE_LIMBS must select the portable two-limb product");
+#endif
+
 namespace {
 
 using namespace rayproof::detail;
