@@ -10,6 +10,8 @@
 // Every input number is taken as the exact real number its value denotes (-0 is 0).
 #pragma once
 
+#include <rayproof/detail/fp_model.hpp>
+
 #include <Eigen/Core>
 
 #include <limits>

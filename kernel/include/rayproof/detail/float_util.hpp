@@ -3,6 +3,8 @@
 // detail/rounding.hpp.
 #pragma once
 
+#include <rayproof/detail/fp_model.hpp>
+
 #include <cmath>
 #include <limits>
 

@@ -9,6 +9,8 @@
 // pbrt-v4 section 6.8.1 uses the same notation).
 #pragma once
 
+#include <rayproof/detail/fp_model.hpp>
+
 #include <bit>
 #include <cmath>
 #include <cstdint>
