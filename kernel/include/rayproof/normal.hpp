@@ -51,9 +51,11 @@ template <class T> [[nodiscard]] Vec3<T> normal(const Obb<T>& b, const Hit<T>& h
 
 template <class T> [[nodiscard]] Vec3<T> normal(const Sphere<T>& s, const Hit<T>& h, const Ray<T>& r) noexcept {
     if (h.verdict != Verdict::hit) return Vec3<T>::Zero();
+    // p - c scaled exactly before it is normalized (unit_vector): dividing by v.norm()
+    // directly loses the unit length when |v| overflows (huge spheres) or falls into the
+    // subnormal range (tiny ones).
     const Vec3<T> v = r.origin + h.t_enter * r.direction - s.center;
-    const T len = v.norm();
-    if (len > 0 && std::isfinite(len)) return v / len;
+    if (v.allFinite() && !v.isZero(0)) return detail::unit_vector<T>(v);
     return detail::unit_vector<T>(-r.direction);
 }
 
