@@ -20,16 +20,12 @@ namespace rayproof::python {
 
 namespace py = pybind11;
 
-// The mode chosen at run time from Python; dispatched to the kernel's tags below.
-enum class Mode { fast, conservative, certified };
+// The mode chosen at run time from Python: the kernel's RuntimeMode, dispatched to the
+// kernel's tags by rayproof::with_mode (a value outside the three answers as certified).
+using Mode = ::rayproof::RuntimeMode;
 
 template <class F> decltype(auto) with_mode(Mode mode, F&& f) {
-    switch (mode) {
-        case Mode::fast: return f(rayproof::fast);
-        case Mode::conservative: return f(rayproof::conservative);
-        case Mode::certified: break;
-    }
-    return f(rayproof::certified);
+    return ::rayproof::with_mode(mode, f, [&] { return f(rayproof::certified); });
 }
 
 // The Python names of the scalar types: Ray (double), Ray32 (float).

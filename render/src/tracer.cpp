@@ -370,15 +370,6 @@ template <class M> RenderResult render_in(const Scene& s, const RenderOptions& o
     return res;
 }
 
-template <class F> auto with_mode(Mode m, F&& f) {
-    switch (m) {
-        case Mode::conservative: return f(conservative_t{});
-        case Mode::certified: return f(certified_t{});
-        case Mode::fast: break;
-    }
-    return f(fast_t{});
-}
-
 }  // namespace
 
 Stats& Stats::operator+=(const Stats& o) {
@@ -416,12 +407,18 @@ std::optional<Vec3d> refract(const Vec3d& u, const Vec3d& n, double eta) {
     return Vec3d(eta * u + (eta * cos_i - std::sqrt(k)) * n);
 }
 
+// The scene's mode as its tag, by the kernel's dispatch (a value outside the three
+// renders as fast).
+template <class F> decltype(auto) in_mode(Mode m, F&& f) {
+    return with_mode(m, f, [&] { return f(fast); });
+}
+
 RenderResult render(const Scene& scene, const RenderOptions& options) {
-    return with_mode(scene.settings.mode, [&](auto tag) { return render_in<decltype(tag)>(scene, options); });
+    return in_mode(scene.settings.mode, [&](auto tag) { return render_in<decltype(tag)>(scene, options); });
 }
 
 Color radiance(const Scene& scene, double px, double py, const TraceOptions& options, Stats* stats) {
-    return with_mode(scene.settings.mode, [&](auto tag) -> Color {
+    return in_mode(scene.settings.mode, [&](auto tag) -> Color {
         Stats local;
         Stats& st = stats ? *stats : local;
         Tracer<decltype(tag)> tr(scene, options, st);

@@ -117,50 +117,39 @@ concept AnswerableAtRunTime = Answerable<T, Shape, fast_t> && Answerable<T, Shap
 template <class T, class Shape>
     requires AnswerableAtRunTime<T, Shape>
 [[nodiscard]] Hit<T> intersect(const Ray<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
-    switch (mode) {
-        case RuntimeMode::fast: return intersect(ray, shape, fast);
-        case RuntimeMode::conservative: return intersect(ray, shape, conservative);
-        case RuntimeMode::certified: return intersect(ray, shape, certified);
-    }
-    return detail::invalid_hit<T>();
+    return with_mode(
+        mode, [&](auto tag) { return intersect(ray, shape, tag); }, [] { return detail::invalid_hit<T>(); });
 }
 
 template <class T, class Shape>
     requires AnswerableAtRunTime<T, Shape>
 [[nodiscard]] Verdict verdict(const Ray<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
-    switch (mode) {
-        case RuntimeMode::fast: return verdict(ray, shape, fast);
-        case RuntimeMode::conservative: return verdict(ray, shape, conservative);
-        case RuntimeMode::certified: return verdict(ray, shape, certified);
-    }
-    return Verdict::invalid;
+    return with_mode(mode, [&](auto tag) { return verdict(ray, shape, tag); }, [] { return Verdict::invalid; });
 }
 
 // Batch forms; the same precondition, checked the same way, as the tag forms.
 template <class T, class Shape>
     requires AnswerableAtRunTime<T, Shape>
 void intersect(std::span<const Ray<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Hit<T>> out) {
-    switch (mode) {
-        case RuntimeMode::fast: return intersect(rays, shape, fast, out);
-        case RuntimeMode::conservative: return intersect(rays, shape, conservative, out);
-        case RuntimeMode::certified: return intersect(rays, shape, certified, out);
-    }
-    if (out.size() != rays.size())
-        detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
-    for (Hit<T>& h : out) h = detail::invalid_hit<T>();
+    with_mode(
+        mode, [&](auto tag) { intersect(rays, shape, tag, out); },
+        [&] {
+            if (out.size() != rays.size())
+                detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
+            for (Hit<T>& h : out) h = detail::invalid_hit<T>();
+        });
 }
 
 template <class T, class Shape>
     requires AnswerableAtRunTime<T, Shape>
 void verdict(std::span<const Ray<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Verdict> out) {
-    switch (mode) {
-        case RuntimeMode::fast: return verdict(rays, shape, fast, out);
-        case RuntimeMode::conservative: return verdict(rays, shape, conservative, out);
-        case RuntimeMode::certified: return verdict(rays, shape, certified, out);
-    }
-    if (out.size() != rays.size())
-        detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
-    for (Verdict& v : out) v = Verdict::invalid;
+    with_mode(
+        mode, [&](auto tag) { verdict(rays, shape, tag, out); },
+        [&] {
+            if (out.size() != rays.size())
+                detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
+            for (Verdict& v : out) v = Verdict::invalid;
+        });
 }
 
 }  // namespace rayproof

@@ -95,14 +95,22 @@ template <class S, class T> inline constexpr bool is_shape_v =
 [[nodiscard]] constexpr const char* mode_name(conservative_t) noexcept { return "conservative"; }
 [[nodiscard]] constexpr const char* mode_name(certified_t) noexcept { return "certified"; }
 
+// The one dispatch from a RuntimeMode to its tag: f(tag) for the three enumerators,
+// on_invalid() for any other value (both must return the same type). The run-time forms
+// of intersect and verdict, and the tracer and the Python bindings, all go through it.
+template <class F, class G>
+constexpr decltype(auto) with_mode(RuntimeMode mode, F&& f, G&& on_invalid) {
+    switch (mode) {
+        case RuntimeMode::fast: return f(fast);
+        case RuntimeMode::conservative: return f(conservative);
+        case RuntimeMode::certified: return f(certified);
+    }
+    return on_invalid();
+}
+
 // The tag's name ("fast", "conservative", "certified"); "?" outside the three.
 [[nodiscard]] constexpr const char* to_string(RuntimeMode m) noexcept {
-    switch (m) {
-        case RuntimeMode::fast: return mode_name(fast);
-        case RuntimeMode::conservative: return mode_name(conservative);
-        case RuntimeMode::certified: return mode_name(certified);
-    }
-    return "?";
+    return with_mode(m, [](auto tag) { return mode_name(tag); }, [] { return "?"; });
 }
 [[nodiscard]] constexpr const char* mode_name(RuntimeMode m) noexcept { return to_string(m); }
 
