@@ -20,6 +20,7 @@
 #include <rayproof/io.hpp>
 #include <rayproof/rayproof.hpp>
 
+#include "faithful.hpp"
 #include "seeded.hpp"
 
 #include <gmpxx.h>
@@ -37,6 +38,8 @@
 namespace {
 
 using namespace rayproof::detail;
+using rayproof::testing::is_faithful;
+using rayproof::testing::minus_rational;
 
 std::uint64_t base_seed() {
     static const std::uint64_t s = rayproof::testing::env_seed_or(20261122);
@@ -148,10 +151,10 @@ TEST(QuotientSums, ExactSumsHaveZeroBoundAndOutOfRangeIsRejected) {
     EXPECT_FALSE((make_sums<3>(1, 1, tiny, one).qs.ok));  // a product whose error term could be lost
 }
 
+// r is q faithfully rounded (the shared helper, faithful.hpp) and finite.
 ::testing::AssertionResult faithful(double r, const mpq_class& q) {
     if (!std::isfinite(r)) return ::testing::AssertionFailure() << "non-finite " << hex(r);
-    if (Q(step_down(r)) < q && q < Q(step_up(r))) return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << hex(r) << " is not a faithful rounding of " << q.get_d();
+    return is_faithful(r, minus_rational(q)) << " (" << q.get_d() << ")";
 }
 
 TEST(PinQuotient, FaithfulWheneverPinned) {

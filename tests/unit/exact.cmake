@@ -1,5 +1,5 @@
 # exact_test: the exact-arithmetic layer (rayproof/detail/exact.hpp) checked against
-# GMP rationals. GMP's C++ interface is the reference in this test only; the kernel
+# GMP rationals. GMP's C++ interface is a reference in the tests only; the kernel
 # never uses it. Included from tests/unit/CMakeLists.txt.
 if(NOT TARGET GTest::gtest_main)
   find_package(GTest REQUIRED)
@@ -11,7 +11,8 @@ find_library(RAYPROOF_GMPXX_LIBRARY gmpxx REQUIRED)
 find_library(RAYPROOF_GMP_LIBRARY gmp REQUIRED)
 
 # compensated_test: the double-word stage (rayproof/detail/compensated.hpp), likewise.
-foreach(t exact_test compensated_test)
+# faithful_test: the contract's t tolerance helper (faithful.hpp) against GMP rationals.
+foreach(t exact_test compensated_test faithful_test)
   add_executable(${t} ${CMAKE_CURRENT_LIST_DIR}/${t}.cpp)
   target_include_directories(${t} SYSTEM PRIVATE ${RAYPROOF_GMPXX_INCLUDE_DIR})
   target_link_libraries(${t} PRIVATE rayproof::kernel GTest::gtest_main
@@ -34,3 +35,7 @@ if(DEFINED RAYPROOF_WARNINGS)
   target_compile_options(exact_test_portable_limbs PRIVATE ${RAYPROOF_WARNINGS})
 endif()
 gtest_discover_tests(exact_test_portable_limbs TEST_PREFIX portable_limbs. PROPERTIES LABELS unit)
+
+# ray_plane_test checks a certified t against the exact rational N/D: GMP's C++ interface.
+target_include_directories(ray_plane_test SYSTEM PRIVATE ${RAYPROOF_GMPXX_INCLUDE_DIR})
+target_link_libraries(ray_plane_test PRIVATE ${RAYPROOF_GMPXX_LIBRARY} ${RAYPROOF_GMP_LIBRARY})

@@ -5,6 +5,7 @@
 // with the environment variable RAYPROOF_SEED (decimal) to replay a run.
 #include <rayproof/detail/exact.hpp>
 
+#include "faithful.hpp"
 #include "seeded.hpp"
 
 #include <gmpxx.h>
@@ -29,6 +30,8 @@ static_assert(RAYPROOF_INT128_LIMBS == 0, "RAYPROOF_PORTABLE_LIMBS must select t
 namespace {
 
 using namespace rayproof::detail;
+using rayproof::testing::is_faithful;
+using rayproof::testing::minus_rational;
 using BigExpansion = Expansion<256>;
 
 // ---------------------------------------------------------------- seeds and printing
@@ -551,22 +554,12 @@ TEST(ExactSafe, Degree6ProductsNeverFlagFloat) {
 
 // ================================================================= 5. quotients
 
-// r is num/den faithfully rounded: exact, or one of the two neighbours enclosing it;
-// ±max beyond the range; never infinite, never NaN, zero is +0.
+// r is num/den faithfully rounded (the shared helper, faithful.hpp), and beyond what
+// faithfulness allows: never infinite (±max beyond the range), never NaN, zero is +0.
 template <class T> ::testing::AssertionResult faithful(T r, const mpq_class& q) {
     if (!std::isfinite(r)) return ::testing::AssertionFailure() << "non-finite " << hex(r);
     if (r == 0 && std::signbit(r)) return ::testing::AssertionFailure() << "-0";
-    const mpq_class R = Q(r);
-    if (R == q) return ::testing::AssertionSuccess();
-    const T inf = std::numeric_limits<T>::infinity();
-    if (R < q) {
-        const T up = std::nextafter(r, inf);
-        if (std::isinf(up) || q < Q(up)) return ::testing::AssertionSuccess();
-    } else {
-        const T down = std::nextafter(r, -inf);
-        if (std::isinf(down) || q > Q(down)) return ::testing::AssertionSuccess();
-    }
-    return ::testing::AssertionFailure() << "not faithful: " << hex(r) << " for " << q.get_d();
+    return is_faithful(r, minus_rational(q)) << " (" << q.get_d() << ")";
 }
 
 // A random exact value of degree 1..3 from the generator (products and sums).

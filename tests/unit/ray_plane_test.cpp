@@ -4,8 +4,11 @@
 // parallel ray off the plane, crossings exactly at t_min and t_max and one ulp outside,
 // a crossing behind the origin (miss, then hit with t_min = -inf); for double, the
 // certified verdict and full query where the limit times the computed denominator
-// overflows while the crossing lies a few percent from the limit (a miss and a hit).
+// overflows while the crossing lies a few percent from the limit (a miss and a hit),
+// its t checked faithful against the exact rational N/D (GMP).
 #include "unit_support.hpp"
+
+#include <gmpxx.h>
 
 #include <cmath>
 #include <limits>
@@ -73,8 +76,15 @@ TEST(RayPlaneExtreme, CertifiedWhenTheLimitTimesTheDenominatorOverflows) {
         EXPECT_EQ(verdict(ray, plane, certified), expect) << repro(ray, plane);
         const Hit<double> h = intersect(ray, plane, certified);
         EXPECT_EQ(h.verdict, expect) << repro(ray, plane) << ' ' << h;
-        if (inside) {  // t is within u|t| of N/D and a faithful t_enter within 2u|t|: 3u < 2^-50
-            EXPECT_TRUE(h.t_enter == h.t_exit && std::abs(h.t_enter - t) <= std::ldexp(std::abs(t), -50)) << h;
+        if (inside) {  // the exact crossing N/D, N = offset - n·o, D = n·d (GMP rationals)
+            mpq_class num(plane.offset), den(0);
+            for (int i = 0; i < 3; ++i) {
+                num -= mpq_class(plane.normal[i]) * mpq_class(ray.origin[i]);
+                den += mpq_class(plane.normal[i]) * mpq_class(ray.direction[i]);
+            }
+            const mpq_class exact_t = num / den;
+            EXPECT_TRUE(is_faithful(h.t_enter, minus_rational(exact_t))) << "t_enter: " << h;
+            EXPECT_TRUE(is_faithful(h.t_exit, minus_rational(exact_t))) << "t_exit: " << h;
         }
     }
 }
