@@ -1,5 +1,6 @@
-// crosscheck.cpp — CGAL's exact geometric predicates on the same inputs as the oracle, as
-// an independent check of the oracle in its tests (see crosscheck.hpp).
+// crosscheck.cpp — CGAL's exact geometric predicates, constructions and algebraic numbers
+// on the same inputs as the oracle, as an independent check of the oracle (and, through
+// it, of the kernel) in the tests (see crosscheck.hpp).
 //
 // CGAL facts this relies on (CGAL 5.5): do_intersect of a Ray_3 or Line_3 with a
 // Sphere_3 compares the squared distance to the squared radius (ball semantics), but
@@ -10,11 +11,15 @@
 
 #include <rayproof/oracle/crosscheck.hpp>
 
+#include <CGAL/Aff_transformation_3.h>
+#include <CGAL/Root_of_traits.h>
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/intersections.h>
 
 #include <array>
 #include <cmath>
+#include <limits>
+#include <type_traits>
 
 namespace rayproof::oracle::crosscheck {
 
@@ -58,7 +63,105 @@ template <class T> Q t_of(const Ray<T>& r, const P3& p) {
 
 Verdict as_verdict(bool b) { return b ? Verdict::hit : Verdict::miss; }
 
+// CGAL's number for a root of a quadratic with rational coefficients: a0 + a1·sqrt(root).
+using Root2 = CGAL::Root_of_traits<Q>::Root_of_2;
+
+// The oracle's representation of a Root_of_2 (for comparing answers with operator==):
+// a0 + a1·sqrt(root) = a0 + sign(a1)·sqrt(a1²·root); make_root reduces perfect squares.
+ExactValue value_of(const Root2& x) {
+    if (!x.is_extended() || CGAL::sign(x.a1()) == CGAL::ZERO) return internal::make_rational(x.a0());
+    const Q r = x.a1() * x.a1() * x.root();
+    return internal::make_root(x.a0(), r, CGAL::sign(x.a1()) == CGAL::POSITIVE ? 1 : -1);
+}
+
+template <class T> ExactValue value_of(T t) {
+    return std::isinf(t) ? internal::make_infinite(t < 0 ? -1 : 1) : internal::make_rational(to_q(t));
+}
+
+template <class T> Exact<T> invalid_answer() {
+    Exact<T> e;
+    e.verdict = Verdict::invalid;
+    return e;
+}
+
+// One face of a box: its plane in world coordinates and the inward normal.
+struct FacePlane {
+    K::Plane_3 plane;
+    V3 inward;
+};
+// The contract's entry face of a ray that enters the box at world point p: the first
+// plane in face order that holds p and that the direction enters through.
+int entry_face(const std::array<FacePlane, 6>& faces, const P3& p, const V3& d) {
+    for (int f = 0; f < 6; ++f)
+        if (faces[f].plane.has_on(p) && CGAL::sign(faces[f].inward * d) == CGAL::POSITIVE) return f;
+    return 6;
+}
+
+// The answer for a box that is the Iso_cuboid_3 `cub` in the frame reached by `to_frame`
+// (from world coordinates; `to_world` maps back), with faces `faces` in world coordinates.
+template <class T, class ToFrame, class ToWorld>
+Exact<T> box_answer(const Ray<T>& ray, const K::Iso_cuboid_3& cub, ToFrame to_frame, ToWorld to_world,
+                    const std::array<FacePlane, 6>& faces) {
+    Exact<T> e;
+    const P3 o = point(ray.origin);
+    const V3 d = vec(ray.direction);
+    const bool t_min_inside = std::isfinite(ray.t_min) && !cub.has_on_unbounded_side(to_frame(o + d * to_q(ray.t_min)));
+    const auto hit = [&](const P3& entry, const Q& t0, const Q& t1) {
+        e.verdict = Verdict::hit;
+        e.t_enter = internal::make_rational(t0);
+        e.t_exit = internal::make_rational(t1);
+        e.face = t_min_inside ? -1 : entry_face(faces, entry, d);
+        return e;
+    };
+    return with_range(ray, [&](const auto& obj) -> Exact<T> {
+        using O = std::decay_t<decltype(obj)>;
+        if constexpr (std::is_same_v<O, P3>) {
+            if (!t_min_inside) return e;
+            const Q t = to_q(ray.t_min);
+            return hit(obj, t, t);
+        } else {
+            const auto res = CGAL::intersection(to_frame(obj), cub);
+            if (!res) return e;
+            if (const P3* p = boost::get<P3>(&*res)) {
+                const P3 w = to_world(*p);
+                const Q t = t_of(ray, w);
+                return hit(w, t, t);
+            }
+            const Seg& s = boost::get<Seg>(*res);
+            P3 a = to_world(s.source()), b = to_world(s.target());
+            Q ta = t_of(ray, a), tb = t_of(ray, b);
+            if (tb < ta) {
+                std::swap(a, b);
+                std::swap(ta, tb);
+            }
+            return hit(a, ta, tb);
+        }
+    });
+}
+
+template <class F> Order order_of(F f, const ExactValue& v) {
+    using Kind = ExactValue::Kind;
+    constexpr F inf = std::numeric_limits<F>::infinity();
+    if (!v.has_value() || std::isnan(f)) return Order::unordered;
+    if (v.kind() == Kind::minus_infinity) return f == -inf ? Order::equal : Order::above;
+    if (v.kind() == Kind::plus_infinity) return f == inf ? Order::equal : Order::below;
+    if (std::isinf(f)) return f < 0 ? Order::below : Order::above;
+    const Q x = to_q(f);
+    const ExactValue::Impl& im = *v.impl();
+    CGAL::Comparison_result c;
+    if (v.kind() == Kind::rational) {
+        c = CGAL::compare(x, im.p);
+    } else {
+        const Root2 w(im.p, Q(im.sigma), im.r);
+        c = CGAL::opposite(w.compare(x));
+    }
+    return c == CGAL::SMALLER ? Order::below : c == CGAL::LARGER ? Order::above : Order::equal;
+}
+
 }  // namespace
+
+Order compare(float f, const ExactValue& v) { return order_of(f, v); }
+Order compare(double f, const ExactValue& v) { return order_of(f, v); }
 
 template <class T> std::optional<Verdict> verdict(const Ray<T>& ray, const Aabb<T>& box) {
     if (!oracle::valid(ray) || !oracle::valid(box)) return std::nullopt;
@@ -184,13 +287,98 @@ template <class T> std::optional<Interval> interval(const Ray<T>& ray, const Pla
     });
 }
 
+template <class T> Exact<T> answer(const Ray<T>& ray, const Aabb<T>& box) {
+    if (!oracle::valid(ray) || !oracle::valid(box)) return invalid_answer<T>();
+    std::array<FacePlane, 6> faces;
+    for (int i = 0; i < 3; ++i) {
+        Q n[3] = {Q{0}, Q{0}, Q{0}};
+        n[i] = 1;
+        const V3 e{n[0], n[1], n[2]};
+        faces[2 * i] = {K::Plane_3{n[0], n[1], n[2], Q{-to_q(box.lo[i])}}, e};
+        faces[2 * i + 1] = {K::Plane_3{n[0], n[1], n[2], Q{-to_q(box.hi[i])}}, -e};
+    }
+    const auto same = [](const auto& x) { return x; };
+    return box_answer(ray, K::Iso_cuboid_3{point(box.lo), point(box.hi)}, same, same, faces);
+}
+
+template <class T> Exact<T> answer(const Ray<T>& ray, const Obb<T>& box) {
+    if (!oracle::valid(ray) || !oracle::valid(box)) return invalid_answer<T>();
+    const P3 c = point(box.center);
+    std::array<V3, 3> a;
+    std::array<Q, 3> ac;  // a_i·c
+    for (int i = 0; i < 3; ++i) {
+        a[i] = vec(Vec3<T>(box.axes.col(i)));
+        ac[i] = a[i] * (c - CGAL::ORIGIN);
+    }
+    // The box frame: p'_i = a_i·p - a_i·c = (p - c)·a_i, where the box is |p'_i| <= h_i.
+    const K::Aff_transformation_3 to_box{a[0].x(), a[0].y(), a[0].z(), Q{-ac[0]},  //
+                                         a[1].x(), a[1].y(), a[1].z(), Q{-ac[1]},  //
+                                         a[2].x(), a[2].y(), a[2].z(), Q{-ac[2]}};
+    const K::Aff_transformation_3 to_world = to_box.inverse();
+    std::array<FacePlane, 6> faces;
+    P3 lo, hi;
+    {
+        Q l[3], u[3];
+        for (int i = 0; i < 3; ++i) {
+            const Q h = to_q(box.half_extent[i]);
+            // side 0: a_i·p = a_i·c - h_i (inward +a_i); side 1: a_i·p = a_i·c + h_i (inward -a_i).
+            faces[2 * i] = {K::Plane_3{a[i].x(), a[i].y(), a[i].z(), Q{h - ac[i]}}, a[i]};
+            faces[2 * i + 1] = {K::Plane_3{a[i].x(), a[i].y(), a[i].z(), Q{Q{-h} - ac[i]}}, -a[i]};
+            l[i] = -h;
+            u[i] = h;
+        }
+        lo = P3{l[0], l[1], l[2]};
+        hi = P3{u[0], u[1], u[2]};
+    }
+    return box_answer(
+        ray, K::Iso_cuboid_3{lo, hi}, [&](const auto& x) { return x.transform(to_box); },
+        [&](const P3& p) { return p.transform(to_world); }, faces);
+}
+
+template <class T> Exact<T> answer(const Ray<T>& ray, const Plane<T>& plane) {
+    if (!oracle::valid(ray) || !oracle::valid(plane)) return invalid_answer<T>();
+    Exact<T> e;
+    const auto iv = interval(ray, plane);
+    if (!iv) return e;
+    e.verdict = Verdict::hit;
+    e.t_enter = iv->t_enter;
+    e.t_exit = iv->t_exit;
+    return e;
+}
+
+template <class T> Exact<T> answer(const Ray<T>& ray, const Sphere<T>& sphere) {
+    const auto v = verdict(ray, sphere);
+    if (!v) return invalid_answer<T>();
+    Exact<T> e;
+    if (*v != Verdict::hit) return e;
+    e.verdict = Verdict::hit;
+    const P3 o = point(ray.origin), c = point(sphere.center);
+    const V3 d = vec(ray.direction), delta = o - c;
+    const Q r = to_q(sphere.radius);
+    const K::Sphere_3 sp{c, Q{r * r}};
+    const auto in_ball = [&](T t) {
+        return std::isfinite(t) && sp.bounded_side(o + d * to_q(t)) != CGAL::ON_UNBOUNDED_SIDE;
+    };
+    // |o + t·d - c|² = r²: (d·d)·t² + 2(d·Δ)·t + (Δ·Δ - r²) = 0, two real roots on a hit
+    // (the line meets the ball); none are made when that fails, so the answer disagrees.
+    const Q qa = d * d, qb = Q{2} * (d * delta), qc = Q{delta * delta - r * r};
+    if (CGAL::sign(Q{qb * qb - Q{4} * qa * qc}) == CGAL::NEGATIVE) return e;
+    e.t_enter = in_ball(ray.t_min) ? value_of(ray.t_min) : value_of(CGAL::make_root_of_2(qa, qb, qc, true));
+    e.t_exit = in_ball(ray.t_max) ? value_of(ray.t_max) : value_of(CGAL::make_root_of_2(qa, qb, qc, false));
+    return e;
+}
+
 #define RAYPROOF_CROSSCHECK_INSTANTIATE(T)                                                   \
     template std::optional<Verdict> verdict<T>(const Ray<T>&, const Aabb<T>&);               \
     template std::optional<Verdict> verdict<T>(const Ray<T>&, const Obb<T>&);                \
     template std::optional<Verdict> verdict<T>(const Ray<T>&, const Plane<T>&);              \
     template std::optional<Verdict> verdict<T>(const Ray<T>&, const Sphere<T>&);             \
     template std::optional<Interval> interval<T>(const Ray<T>&, const Aabb<T>&);             \
-    template std::optional<Interval> interval<T>(const Ray<T>&, const Plane<T>&);
+    template std::optional<Interval> interval<T>(const Ray<T>&, const Plane<T>&);            \
+    template Exact<T> answer<T>(const Ray<T>&, const Aabb<T>&);                              \
+    template Exact<T> answer<T>(const Ray<T>&, const Obb<T>&);                               \
+    template Exact<T> answer<T>(const Ray<T>&, const Plane<T>&);                             \
+    template Exact<T> answer<T>(const Ray<T>&, const Sphere<T>&);
 RAYPROOF_CROSSCHECK_INSTANTIATE(float)
 RAYPROOF_CROSSCHECK_INSTANTIATE(double)
 #undef RAYPROOF_CROSSCHECK_INSTANTIATE
