@@ -1,12 +1,15 @@
 // oracle_test_support.hpp — helpers shared by the oracle's own tests: the scalar type
 // list, hand-computed answer checks, the invalid-ray classes, and the cross-check of the
-// oracle against CGAL's geometric predicates over every registered generator.
+// oracle and of the kernel's certified mode against CGAL's own answer over every
+// registered generator.
 #pragma once
 
 #include <rayproof/generators.hpp>
 #include <rayproof/oracle/crosscheck.hpp>
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
+
+#include "faithful.hpp"
 
 #include <gtest/gtest.h>
 
@@ -79,45 +82,94 @@ template <class T, class Shape> void expect_invalid_ray_classes(const Ray<T>& r,
     check(b, "zero direction");
 }
 
-// For every generator of the shape: the oracle's verdict equals CGAL's (and, with
-// with_interval, its exact interval equals the one built from CGAL's intersection).
-template <class T, class Shape> void crosscheck_all_generators(int cases, bool with_interval) {
-    for (const auto& g : gen::generators<T, Shape>()) {
-        const std::uint64_t seed = 0x0bac1e ^ gen::name_hash(g.name);
-        gen::Rng rng(seed);
-        int checked = 0, failures = 0;
-        for (int i = 0; i < cases; ++i) {
-            const auto c = g.make(rng);
-            const auto e = oracle::exact(c.ray, c.shape);
-            const auto v = oracle::crosscheck::verdict(c.ray, c.shape);
-            if (e.verdict == Verdict::invalid) {
-                EXPECT_FALSE(v.has_value()) << c;
-                continue;
-            }
-            if (!v) continue;  // the cross-check does not apply (a flat Obb)
-            ++checked;
-            if (*v != e.verdict) {
-                if (++failures <= 5)
-                    ADD_FAILURE() << g.name << " seed " << seed << " case " << i << ": oracle " << e << " vs CGAL "
-                                  << *v << "\n  " << c;
-                continue;
-            }
-            if constexpr (std::is_same_v<Shape, Aabb<T>> || std::is_same_v<Shape, Plane<T>>) {
-                if (with_interval && e.verdict == Verdict::hit) {
-                    const auto iv = oracle::crosscheck::interval(c.ray, c.shape);
-                    if (!iv || !(iv->t_enter == e.t_enter) || !(iv->t_exit == e.t_exit)) {
-                        if (++failures <= 5)
-                            ADD_FAILURE() << g.name << " seed " << seed << " case " << i << ": oracle " << e
-                                          << " vs CGAL interval "
-                                          << (iv ? iv->t_enter.str() + ", " + iv->t_exit.str() : std::string("none"))
-                                          << "\n  " << c;
-                    }
-                }
-            }
+// sign(x - v) for the cross-check's exact value v, decided by CGAL's numbers
+// (crosscheck::compare), for the shared tolerance helper; 2 when v has no value (then no
+// float is faithful to it).
+template <class T> auto minus_cgal(const oracle::ExactValue& v) {
+    return [&v](T x) {
+        switch (oracle::crosscheck::compare(x, v)) {
+            case oracle::Order::below: return -1;
+            case oracle::Order::equal: return 0;
+            case oracle::Order::above: return 1;
+            case oracle::Order::unordered: break;
         }
-        EXPECT_EQ(failures, 0) << g.name;
+        return 2;
+    };
+}
+
+// One input judged three ways against CGAL's answer x (crosscheck::answer, a route that
+// shares no algebra with the oracle's):
+//   the oracle: the same verdict, the same exact t_enter and t_exit (equal values), the
+//     same face, and its faithful brackets enclosing x's values (by CGAL's comparisons);
+//   CGAL's predicates: the same verdict when they apply (crosscheck::verdict);
+//   the kernel's certified mode: the same verdict and face, each t one of the two floats
+//     enclosing x's value (the contract's tolerance, faithful.hpp).
+// Returns what disagrees, empty when nothing does, and adds what was covered to `cov`.
+struct Coverage {
+    int checked = 0, hits = 0, faces = 0, predicate = 0, failures = 0;
+};
+template <class T, class Shape> std::string disagreement(const Ray<T>& ray, const Shape& shape, Coverage& cov) {
+    std::ostringstream why;
+    const auto e = oracle::exact(ray, shape);
+    const auto x = oracle::crosscheck::answer(ray, shape);
+    const auto v = oracle::crosscheck::verdict(ray, shape);
+    ++cov.checked;
+    cov.hits += x.verdict == Verdict::hit;
+    cov.faces += x.verdict == Verdict::hit && x.face >= 0;
+    cov.predicate += v.has_value();
+    if (x.verdict != e.verdict) why << "verdicts: oracle " << e << " vs CGAL " << x << "; ";
+    if (e.verdict == Verdict::invalid ? v.has_value() : (v && *v != e.verdict)) {
+        why << "CGAL's predicate says ";
+        if (v) why << *v;
+        why << " vs oracle " << e << "; ";
+    }
+    if (x.verdict == Verdict::hit && e.verdict == Verdict::hit) {
+        if (!(x.t_enter == e.t_enter) || !(x.t_exit == e.t_exit) || x.face != e.face)
+            why << "answers: oracle " << e << " vs CGAL " << x << "; ";
+        const auto be = e.enter_bracket(), bx = e.exit_bracket();
+        for (const T b : {be.lo, be.hi})
+            if (const auto r = testing::is_faithful(b, minus_cgal<T>(x.t_enter)); !r) why << "oracle's enter bracket: " << r.message() << "; ";
+        for (const T b : {bx.lo, bx.hi})
+            if (const auto r = testing::is_faithful(b, minus_cgal<T>(x.t_exit)); !r) why << "oracle's exit bracket: " << r.message() << "; ";
+    }
+    const Hit<T> h = intersect(ray, shape, certified);
+    if (h.verdict != x.verdict) {
+        why << "certified verdict " << h << " vs CGAL " << x << "; ";
+    } else if (h.verdict == Verdict::hit) {
+        if (const auto r = testing::is_faithful(h.t_enter, minus_cgal<T>(x.t_enter)); !r)
+            why << "certified t_enter: " << r.message() << "; ";
+        if (const auto r = testing::is_faithful(h.t_exit, minus_cgal<T>(x.t_exit)); !r)
+            why << "certified t_exit: " << r.message() << "; ";
+        if (h.face != x.face) why << "certified face " << h.face << " vs CGAL " << x.face << "; ";
+        if (why.tellp() > 0) why << "certified " << h << " CGAL " << x << "; ";
+    }
+    return why.str();
+}
+
+// Judges `cases` cases of the generator `make` (seeded by `seed`, named `name` in
+// failures); `variant(c, i)` may replace the case first (e.g. by a flat copy).
+template <class T, class Shape, class Make, class Variant>
+Coverage crosscheck_cases(std::string_view name, std::uint64_t seed, int cases, Make make, Variant variant) {
+    gen::Rng rng(seed);
+    Coverage cov;
+    for (int i = 0; i < cases; ++i) {
+        const gen::Case<T, Shape> c = variant(make(rng), i);
+        const std::string why = disagreement(c.ray, c.shape, cov);
+        if (!why.empty() && ++cov.failures <= 5)
+            ADD_FAILURE() << name << " seed " << seed << " case " << i << ": " << why << "\n  " << c;
+    }
+    return cov;
+}
+
+// For every generator of the shape: the oracle, CGAL's predicates and the kernel's
+// certified mode against CGAL's full answer (see disagreement).
+template <class T, class Shape> void crosscheck_all_generators(int cases) {
+    for (const auto& g : gen::generators<T, Shape>()) {
+        const Coverage cov = crosscheck_cases<T, Shape>(g.name, 0x0bac1e ^ gen::name_hash(g.name), cases, g.make,
+                                                        [](const gen::Case<T, Shape>& c, int) { return c; });
+        EXPECT_EQ(cov.failures, 0) << g.name;
         if (g.name != "invalid") {
-            EXPECT_GT(checked, cases / 4) << g.name << ": too few cases cross-checked";
+            EXPECT_GT(cov.predicate, cases / 4) << g.name << ": too few cases cross-checked by CGAL's predicates";
         }
     }
 }

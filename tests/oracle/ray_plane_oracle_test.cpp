@@ -58,7 +58,7 @@ TYPED_TEST(PlaneOracle, EveryInvalidClass) {
 
 TYPED_TEST(PlaneOracle, AgreesWithCgalOnEveryGenerator) {
     using T = TypeParam;
-    crosscheck_all_generators<T, Plane<T>>(kCrosscheckCases, /*with_interval=*/true);
+    crosscheck_all_generators<T, Plane<T>>(kCrosscheckCases);
 }
 
 }  // namespace
