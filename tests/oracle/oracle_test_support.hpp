@@ -103,7 +103,8 @@ template <class T> auto minus_cgal(const oracle::ExactValue& v) {
 //     same face, and its faithful brackets enclosing x's values (by CGAL's comparisons);
 //   CGAL's predicates: the same verdict when they apply (crosscheck::verdict);
 //   the kernel's certified mode: the same verdict and face, each t one of the two floats
-//     enclosing x's value (the contract's tolerance, faithful.hpp).
+//     enclosing x's value (the contract's tolerance, faithful.hpp);
+//   the kernel's conservative mode: a hit wherever x hits, its interval enclosing x's.
 // Returns what disagrees, empty when nothing does, and adds what was covered to `cov`.
 struct Coverage {
     int checked = 0, hits = 0, faces = 0, predicate = 0, failures = 0;
@@ -142,6 +143,16 @@ template <class T, class Shape> std::string disagreement(const Ray<T>& ray, cons
             why << "certified t_exit: " << r.message() << "; ";
         if (h.face != x.face) why << "certified face " << h.face << " vs CGAL " << x.face << "; ";
         if (why.tellp() > 0) why << "certified " << h << " CGAL " << x << "; ";
+    }
+    // Conservative: invalid stays invalid; an exact hit is a hit whose interval encloses
+    // CGAL's exact one.
+    const Hit<T> hc = intersect(ray, shape, conservative);
+    if ((hc.verdict == Verdict::invalid) != (x.verdict == Verdict::invalid)) {
+        why << "conservative " << hc << " vs CGAL " << x << "; ";
+    } else if (x.verdict == Verdict::hit) {
+        if (hc.verdict != Verdict::hit || !(minus_cgal<T>(x.t_enter)(hc.t_enter) <= 0) ||
+            !(minus_cgal<T>(x.t_exit)(hc.t_exit) == 0 || minus_cgal<T>(x.t_exit)(hc.t_exit) == 1))
+            why << "conservative " << hc << " does not enclose CGAL's " << x << "; ";
     }
     return why.str();
 }
