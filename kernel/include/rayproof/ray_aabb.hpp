@@ -43,6 +43,9 @@
 //            2^-960) and exact arithmetic beyond.
 //            For float, every step runs in double: a faithfully rounded double rounded
 //            to nearest float is a faithfully rounded float.
+//            Contraction (detail/eft.hpp): the enclosures are class C1, the products
+//            of 26- and 27-bit parts class C2, and the probe's terms and the rounded
+//            candidates class C3 (rounded(), at the code).
 //            The verdict alone (verdict() in intersect.hpp) runs on the same lanes and
 //            bounds (aabb_verdict_common): a certain verdict needs no winner and no
 //            rounding, and what it cannot decide goes to the same general path.

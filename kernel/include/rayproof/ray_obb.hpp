@@ -102,6 +102,9 @@ public:
     // covers underflowing products (at most 2^-1075 each), and each end then steps one
     // float outward (covering the rounding of value ± bound). An infinite or NaN bound
     // (an overflow) gives the whole line, which decides nothing.
+    // Contraction (detail/eft.hpp): class C1; a fused a_ji·Δ~_j enters the sum with
+    // rounding error 0, and the bound, taken on the rounded |products|, is off from the
+    // exact ones' by a factor 1 + u at most, which the doubling covers.
     ObbFrame(const Ray<T>& r, const Obb<T>& b) : r_(&r), b_(&b) {
         Interval<double> oc[3];
         for (int j = 0; j < 3; ++j) oc[j] = Interval<double>(double(r.origin[j])) - Interval<double>(double(b.center[j]));
