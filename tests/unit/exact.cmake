@@ -39,3 +39,17 @@ gtest_discover_tests(exact_test_portable_limbs TEST_PREFIX portable_limbs. PROPE
 # ray_plane_test checks a certified t against the exact rational N/D: GMP's C++ interface.
 target_include_directories(ray_plane_test SYSTEM PRIVATE ${RAYPROOF_GMPXX_INCLUDE_DIR})
 target_link_libraries(ray_plane_test PRIVATE ${RAYPROOF_GMPXX_LIBRARY} ${RAYPROOF_GMP_LIBRARY})
+
+# The double-word stage with the split products forced on (RAYPROOF_SPLIT_PRODUCTS,
+# rayproof/detail/eft.hpp): Dekker's product on Veltkamp's split, as on a target without
+# a fused multiply-add. Built with contraction (scripts/test.sh, contraction stage), it
+# checks the split where the compiler can fuse its products.
+add_executable(compensated_test_split_products ${CMAKE_CURRENT_LIST_DIR}/compensated_test.cpp)
+target_compile_definitions(compensated_test_split_products PRIVATE RAYPROOF_SPLIT_PRODUCTS=1)
+target_include_directories(compensated_test_split_products SYSTEM PRIVATE ${RAYPROOF_GMPXX_INCLUDE_DIR})
+target_link_libraries(compensated_test_split_products PRIVATE rayproof::kernel GTest::gtest_main
+                      ${RAYPROOF_GMPXX_LIBRARY} ${RAYPROOF_GMP_LIBRARY})
+if(DEFINED RAYPROOF_WARNINGS)
+  target_compile_options(compensated_test_split_products PRIVATE ${RAYPROOF_WARNINGS})
+endif()
+gtest_discover_tests(compensated_test_split_products TEST_PREFIX split_products. PROPERTIES LABELS unit)

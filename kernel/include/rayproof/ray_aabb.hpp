@@ -43,6 +43,9 @@
 //            2^-960) and exact arithmetic beyond.
 //            For float, every step runs in double: a faithfully rounded double rounded
 //            to nearest float is a faithfully rounded float.
+//            Contraction (detail/eft.hpp): the enclosures are class C1, the products
+//            of 26- and 27-bit parts class C2, and the probe's terms and the rounded
+//            candidates class C3 (rounded(), at the code).
 //            The verdict alone (verdict() in intersect.hpp) runs on the same lanes and
 //            bounds (aabb_verdict_common): a certain verdict needs no winner and no
 //            rounding, and what it cannot decide goes to the same general path.
@@ -93,13 +96,19 @@ RAYPROOF_ALWAYS_INLINE FaithfulDouble faithful_slab_double(double p, double o, d
     const bool in_range = int(as >= 0x1p-960) & int(as <= 0x1p1020) & int(at >= 0x1p-960) & int(at <= 0x1p995) &
                           int(ai >= 0x1p-1022) & int(ai <= std::numeric_limits<double>::max()) &
                           int(std::abs(d) <= 0x1p995);
-    const double t = approx + (se.lo - mul_sub(approx, d, se.hi)) * inv;
+    // Contraction: mul_sub is one rounding of t~·d - s in every form (eft.hpp); the
+    // correction's product is rounded() (class C3, as tc in aabb_certified_common: the
+    // derivation allows a fused form, the bit-for-bit agreement of the paths does not).
+    const double t = approx + rounded((se.lo - mul_sub(approx, d, se.hi)) * inv);
     const bool zero = se.hi == 0;
     return {zero ? 0.0 : t, bool(int(in_range) | int(zero))};
 }
 template <class T> std::optional<T> faithful_slab_value(T p, T o, T d) {
     const double inv = 1.0 / double(d);
-    const FaithfulDouble f = faithful_slab_double(double(p), double(o), double(d), (double(p) - double(o)) * inv, inv);
+    // t~ is rounded() (detail/eft.hpp, class C3): fused into t~ + correction it would
+    // enter unrounded, while the correction is taken against its rounded value.
+    const FaithfulDouble f =
+        faithful_slab_double(double(p), double(o), double(d), rounded((double(p) - double(o)) * inv), inv);
     if (!f.ok) return std::nullopt;
     return faithful_to<T>(f.t);
 }
@@ -254,8 +263,12 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     // (min(t_lo, t_hi), min(-t_hi, -t_lo)), for axes 0 and 1 computed side by side as
     // in01 and out01 and regrouped per axis (the same operations on the same operands as
     // axis 2's min(x2, -swap(x2))).
-    const D2 t_lo01 = (lo01 - o01) * L.inv01, t_hi01 = (o01 - hi01) * L.inv01;
-    const D2 x2 = (p2 - q2) * L.inv22;
+    // Contraction (detail/eft.hpp): the probe below must add the very values the lanes
+    // compare (class C3), and a product fused into its sum would be added unrounded
+    // (finite where the rounded product overflowed), so the three products are
+    // rounded(); the bounds are class C1.
+    const D2 t_lo01 = rounded((lo01 - o01) * L.inv01), t_hi01 = rounded((o01 - hi01) * L.inv01);
+    const D2 x2 = rounded((p2 - q2) * L.inv22);
     const D2 in01 = min(t_lo01, -t_hi01), out01 = min(t_hi01, -t_lo01);
     L.V[0] = lows(in01, out01);
     L.V[1] = highs(in01, out01);
@@ -268,7 +281,9 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
     // both lanes) are infinite or NaN exactly when |d_i| >= 2^1022 or d_i is NaN; for
     // float every finite nonzero float has 1/d normal and finite, and d_i itself is the
     // term. A zero d_i makes its slab values ±inf, or NaN where p - o is 0.
-    const D2 dterms = from_float ? L.d01 + L.d22 : L.d01 * splat(4.0) + L.d22 * splat(4.0);
+    // The terms 4·d_i are rounded() (class C3): fused, fl(4·d_0 + fl(4·d_2)) can be
+    // finite for |d_0| >= 2^1022 (4·d_0 exact inside the fma, d_2 of the other sign).
+    const D2 dterms = from_float ? L.d01 + L.d22 : rounded(L.d01 * splat(4.0)) + rounded(L.d22 * splat(4.0));
     const D2 sum = ((t_lo01 + t_hi01) + x2) + dterms, probe = sum - sum;
     // lo <= hi on the three axes (lane 1 of the axis-2 test is o2 <= o2, true for the
     // finite values that pass the probe).
@@ -366,7 +381,11 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
         const double p_in = neg_w ? double(b.hi[w]) : double(b.lo[w]),
                      p_out = neg_v ? double(b.lo[v]) : double(b.hi[v]);
         const SumOf<D2> se = two_sum(make(p_in, double(r.origin[v])), -make(double(r.origin[w]), p_out));
-        tc = tt + ((se.hi - tt * dh) + (se.lo - tt * (dd - dh))) * make(inv[w], inv[v]);
+        // tt·dh and tt·(dd - dh) are exact (eft.hpp, class C2); the correction's product
+        // with 1/d is rounded() (class C3: fused into tt + ..., one rounding fewer, which
+        // the derivation allows, but the candidate would depend on the compiler's choice
+        // in each inlined copy; rounded, every path computes the same bits).
+        tc = tt + rounded(((se.hi - tt * dh) + (se.lo - tt * (dd - dh))) * make(inv[w], inv[v]));
         const D2 am = abs(m), ad = abs(dd);
         const M2 in_range =
             (am >= splat(0x1p-400)) & (am <= splat(0x1p400)) & (ad >= splat(0x1p-500)) & (ad <= splat(0x1p500));

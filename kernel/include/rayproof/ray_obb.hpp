@@ -102,6 +102,9 @@ public:
     // covers underflowing products (at most 2^-1075 each), and each end then steps one
     // float outward (covering the rounding of value ± bound). An infinite or NaN bound
     // (an overflow) gives the whole line, which decides nothing.
+    // Contraction (detail/eft.hpp): class C1; a fused a_ji·Δ~_j enters the sum with
+    // rounding error 0, and the bound, taken on the rounded |products|, is off from the
+    // exact ones' by a factor 1 + u at most, which the doubling covers.
     ObbFrame(const Ray<T>& r, const Obb<T>& b) : r_(&r), b_(&b) {
         Interval<double> oc[3];
         for (int j = 0; j < 3; ++j) oc[j] = Interval<double>(double(r.origin[j])) - Interval<double>(double(b.center[j]));
@@ -262,7 +265,9 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_certified_common(const Ray<T>& 
         const double op = lane0(od), dp = lane1(od), eo = lane0(err), ed = lane1(err), h = double(b.half_extent[i]);
         const double inv = 1 / dp, ai = std::abs(inv);
         slabs_ok = int(slabs_ok) & int(ed <= 0x1p-20 * std::abs(dp));
-        const D2 num = make(-h - op, h - op), t = num * splat(inv);  // sides 0 and 1
+        // t is rounded() (detail/eft.hpp, class C3): the probe and the comparisons take
+        // the same values; every bound here is class C1.
+        const D2 num = make(-h - op, h - op), t = rounded(num * splat(inv));  // sides 0 and 1
         const D2 e = (splat(eo) + abs(num) * splat(u + ed * ai)) * splat(ai) + splat(3 * u) * abs(t);
         const D2 bound = (e + e) + splat(eta);
         const M2 neg = splat(dp) < splat(0.0);  // side 1 is entered

@@ -157,6 +157,10 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, co
 // verdict_declined when the filter cannot decide (D too close to 0, extreme exponents
 // that overflow S~ or X~, a crossing within the bounds of a limit), else
 // int(Verdict::miss) or int(Verdict::hit).
+// Contraction (detail/eft.hpp): class C1. Fused, p_2 enters N~ and D~ unrounded, which
+// the gamma(4) count allows; |N~| <= S~_N and |D~| <= S~_D then hold up to (1 + u)^2,
+// inside the factors 7 and 3 of slack above; a fused X~ or E has fewer roundings, and a
+// fused X~ cannot overflow through its product, which only removes a case.
 template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>& r, const Plane<T>& p) {
     using namespace lanes;
     constexpr double K = 2 * gamma<double>(4), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();

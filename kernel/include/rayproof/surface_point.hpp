@@ -65,6 +65,10 @@
 // side < 0). A tracer that queries the kernel again from there may add a margin of its
 // own for the mode it uses (a fast or conservative answer may still report the surface
 // just left); the certified mode needs none.
+// Contraction (detail/eft.hpp): class C1 throughout. Each bound counts separate
+// roundings and a fused product rounds once fewer; the point p is taken as computed,
+// fused or not; and a fused fl(p_i + dist·n_i) followed by the one-float step exceeds
+// p_i + dist·n_i itself, which is more than offset_origin needs.
 #pragma once
 
 #include <rayproof/detail/rounding.hpp>

@@ -60,9 +60,15 @@
 // 2^-900, checked; the factor 1 - 2^-40 and 4·b_D absorb the three roundings). A NaN or
 // an infinity anywhere (an overflow, a candidate of 0/0) fails the comparison.
 //
-// Contraction (-ffp-contract=fast) is harmless here: every product the derivation needs
-// exact is exact, a fused rounding is one rounding fewer than the bounds allow for, and
-// exact_product keeps its own fused and split forms apart.
+// Contraction (detail/eft.hpp, classes C1-C3): the sums' products come from
+// exact_product, whose hi is rounded() (C3), so the two_sum cascade adds fl(a_k·b_k) as
+// the derivation says; the bound S·K and the pin's error terms are class C1 (a fused
+// fl(nl - tt·dl), fl(rho - (c - tt)·s_D), or a fused step of e, lhs and rhs, is the
+// separate form with that product's rounding 0, which each bound above already allows
+// for, and lhs and rhs only gain by it); tt·d26 and tt·d27 are exact (C2), so x1 and x2
+// are the same fused or not. The candidate's product rho·fl(1/s_D) is rounded() (C3):
+// the proof holds for any candidate, but the plane's and the Obb's two paths round t by
+// this routine and must get the same bits, whatever the compiler fuses in each copy.
 #pragma once
 
 #include <rayproof/detail/eft.hpp>
@@ -122,7 +128,7 @@ RAYPROOF_ALWAYS_INLINE PinnedQuotient pin_quotient(const QuotientSums& s) {
     // R(tt) and the candidate.
     const double inv = 1 / dh, tt = high26(nh / dh), d26 = high26(dh);
     const double x1 = nh - tt * d26, x2 = x1 - tt * (dh - d26), e1 = tt * dl, x3 = nl - e1, rho = x2 + x3;
-    const double cand = tt + rho * inv;
+    const double cand = tt + rounded(rho * inv);
     const D2 scale = abs(make(tt, dh));
     const M2 scale_ok = (scale >= make(0x1p-490, 0x1p-500)) & (scale <= splat(std::numeric_limits<double>::max()));
     // R(cand) ~ v within e, and the test |t - cand| < u|cand| (see the proof above).

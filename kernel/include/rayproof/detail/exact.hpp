@@ -19,12 +19,15 @@
 //
 // Rounding is IEEE binary64, round to nearest even, no excess precision (SSE2 or any
 // target with IEEE double arithmetic). -ffast-math and its parts are refused at compile
-// time (detail/fp_model.hpp). Contraction (fusing a*b + c into one fma) must not touch
-// the error-free transformations: every rounded product here is also an operand of
-// std::fma(a, b, -p), which keeps compilers from fusing it away, and the unit suite
-// passes with -ffp-contract=fast -march=native under g++ and clang++. Note that ISO
-// mode does not prevent fusion: with an FMA target (-mfma, -march=native) both g++ 12
-// and clang 14 at -std=c++20 -O2 fuse a*b + c written in one expression.
+// time (detail/fp_model.hpp). Contraction (fusing a*b + c into one fma, which g++ and
+// clang do with an FMA target even at -std=c++20) cannot change anything here: the only
+// rounded products are two_prod's, whose hi is detail::rounded (eft.hpp, class C3), so
+// every two_sum, fast_two_sum and scale step sees fl(a·b) and the expansions stay
+// exact; s·f[j] with s = ±1 is exact (class C2); BigDyadic is integer arithmetic; the
+// quotient's candidate is only a start for the exact stepping, which decides; and
+// det3_sign's filter is class C1 (its bound counts five roundings per monomial, a fused
+// evaluation has fewer). The suites run under -O3 -march=native -ffp-contract=fast
+// with g++ and clang (scripts/test.sh, contraction stage).
 //
 // Reference: J. R. Shewchuk, "Adaptive Precision Floating-Point Arithmetic and Fast
 // Robust Geometric Predicates", Discrete Comput. Geom. 18 (1997) — theorem numbers

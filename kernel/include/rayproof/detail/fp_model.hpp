@@ -18,13 +18,19 @@
 //            -fno-signed-zeros -fno-trapping-math (__ASSOCIATIVE_MATH__),
 //            -freciprocal-math (__RECIPROCAL_MATH__), -fno-signed-zeros
 //            (__NO_SIGNED_ZEROS__), -funsafe-math-optimizations (the last three);
-//   clang++  -ffast-math / -Ofast (__FAST_MATH__) and -ffinite-math-only
-//            (__FINITE_MATH_ONLY__ == 1); clang 14 defines no macro for
-//            -fassociative-math, -freciprocal-math or -fno-signed-zeros alone, so those
-//            cannot be refused here and must simply not be used;
+//   clang++  -ffast-math / -Ofast / -ffp-model=fast (__FAST_MATH__) and
+//            -ffinite-math-only (__FINITE_MATH_ONLY__ == 1); clang 14 defines no macro
+//            for -fassociative-math, -freciprocal-math, -fno-signed-zeros,
+//            -funsafe-math-optimizations, -fno-honor-nans or -fno-honor-infinities, so
+//            those cannot be refused here and must simply not be used (checked: with
+//            -fassociative-math -fno-signed-zeros -fno-trapping-math, or
+//            -funsafe-math-optimizations, clang 14 folds two_sum's error term to 0, and
+//            with -fno-honor-nans it folds every NaN test to false);
 //   MSVC     /fp:fast (_M_FP_FAST).
 // The unit test fp_model_refused compiles a translation unit under each of these and
-// expects this error. RAYPROOF_ALLOW_UNSAFE_FP_MODEL exists only for that test's
+// expects this error. Contraction (-ffp-contract=fast, -mfma, -march=native) is not
+// refused: the kernel is written to be right under it (detail/eft.hpp).
+// RAYPROOF_ALLOW_UNSAFE_FP_MODEL exists only for that test's
 // control and for experiments that measure the damage; it voids every promise.
 #pragma once
 

@@ -8,6 +8,10 @@
 // overflow, where the step goes to ±inf), so [lo, hi] always contains the exact
 // result of the exact operation applied to any reals in the operand intervals (pbrt-v4
 // section 6.8.1 "Interval"; Moore, "Interval Analysis", 1966).
+// Contraction (detail/eft.hpp): class C1. Every end passes through step_down or step_up
+// (integer operations on the bits), so no product reaches an addition unrounded; mid()
+// (lo/2 + hi/2, a product by 1/2 to the compiler) is only a candidate that
+// faithful_from_enclosure checks against the ends.
 #pragma once
 
 #include <rayproof/detail/rounding.hpp>

@@ -24,7 +24,7 @@
 #include <emmintrin.h>
 #define RAYPROOF_LANES_SSE2 1
 #endif
-#if defined(RAYPROOF_LANES_SSE2) && defined(__FMA__)
+#if defined(RAYPROOF_LANES_SSE2) && defined(RAYPROOF_FUSED_PRODUCTS) && defined(__FMA__)
 #include <immintrin.h>
 #endif
 
@@ -101,12 +101,24 @@ RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 a) { return {_mm_and_pd(m.v, a.v)}; }
 // a where the mask is set, b elsewhere.
 RAYPROOF_ALWAYS_INLINE D2 select(M2 m, D2 a, D2 b) { return {_mm_or_pd(_mm_and_pd(m.v, a.v), _mm_andnot_pd(m.v, b.v))}; }
 
+// Both lanes as values the compiler cannot see into (detail::rounded, eft.hpp): the
+// SSE operations above are plain vector arithmetic to g++ and clang, which contract
+// them like scalar code.
+RAYPROOF_ALWAYS_INLINE D2 rounded(D2 a) {
+#if defined(__GNUC__) || defined(__clang__)
+    __asm__("" : "+x"(a.v));
+    return a;
+#else
+    return {_mm_set_pd(detail::rounded(lane1(a)), detail::rounded(lane0(a)))};
+#endif
+}
+
 // hi = fl(a·b) and lo = a·b - hi exactly, in each lane (see exact_product below).
 using Product = SumOf<D2>;
-#if defined(__FMA__)
+#if defined(RAYPROOF_FUSED_PRODUCTS) && defined(__FMA__)
 RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
-    const __m128d p = _mm_mul_pd(a.v, b.v);
-    return {{p}, {_mm_fmsub_pd(a.v, b.v, p)}};
+    const D2 p = rounded(D2{_mm_mul_pd(a.v, b.v)});
+    return {p, {_mm_fmsub_pd(a.v, b.v, p.v)}};
 }
 #else
 RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) { return dekker_product(a, b, splat(kVeltkampFactor)); }
@@ -160,9 +172,11 @@ RAYPROOF_ALWAYS_INLINE D2 high26(D2 x) { return {high26(x.a), high26(x.b)}; }
 RAYPROOF_ALWAYS_INLINE D2 keep(M2 m, D2 x) { return {m.a ? x.a : 0.0, m.b ? x.b : 0.0}; }
 RAYPROOF_ALWAYS_INLINE D2 select(M2 m, D2 x, D2 y) { return {m.a ? x.a : y.a, m.b ? x.b : y.b}; }
 
+RAYPROOF_ALWAYS_INLINE D2 rounded(D2 x) { return {detail::rounded(x.a), detail::rounded(x.b)}; }
+
 using Product = SumOf<D2>;
 RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
-    const D2 p = a * b;
+    const D2 p = rounded(a * b);
     return {p, {std::fma(a.a, b.a, -p.a), std::fma(a.b, b.b, -p.b)}};
 }
 
@@ -175,9 +189,12 @@ RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
 // in a lane where |a|, |b| <= 2^995 (the split cannot overflow), neither is subnormal,
 // and |hi| >= 2^-916 or a factor is 0: then the exponents of a and b add up to at least -918,
 // every partial product is a multiple of 2^-1022 and nothing is lost to underflow. The
-// fused form is written out with its own intrinsic, and the split form is used only
-// where the target has no fused multiply-add, so contraction (-ffp-contract=fast) cannot
-// fuse fl(a·b) into a later subtraction and change the error term.
+// fused form is written out with its own intrinsic; the split form is used where the
+// target has no fused multiply-add (or under RAYPROOF_SPLIT_PRODUCTS, eft.hpp).
+// Contraction (eft.hpp, class C3): hi is rounded(a·b) in both forms, so that no later
+// addition (quotient_sums adds it with two_sum) can fuse the product and take it
+// unrounded; the split form's Veltkamp products are rounded() too (veltkamp_high), and
+// its partial products are exact (class C2).
 
 // valid_range (validate.hpp) in the lanes, for ordered = (t_min, -t_max): t_min <= t_max,
 // t_min != +inf and t_max != -inf, as the one test fl(t_min + (-t_max)) <= 0 (in both

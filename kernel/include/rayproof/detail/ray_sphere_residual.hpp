@@ -35,6 +35,10 @@ template <class T> std::array<double, 3> double3(const Vec3<T>& v) { return {dou
 // covers a_j, ρ and the small products. Exact while nothing overflows: the two_sum
 // cascade is guarded by A_0 + A_1 + A_2 + R <= 2^1000; any other overflow leaves an
 // infinite or NaN err, which decides nothing.
+// Contraction (detail/eft.hpp): the splittings are two_prod and two_sum, whose products
+// are rounded() (class C3), so every W_j, A_j, σ and x_k is as derived; ω_j, the small
+// products 2W_jω_j and ω_j², their sums and the bound are class C1 (a fused product in
+// L or in err is that product with rounding error 0).
 class SphereResidual {
 public:
     SphereResidual(const std::array<double, 3>& o, const std::array<double, 3>& d, const std::array<double, 3>& c,

@@ -29,6 +29,11 @@ namespace rayproof::detail {
 // few roundings of the bound itself) plus 2^-1000 for underflow (at most 2^-1075 per
 // rounding, times at most 3·M_j where a square amplifies it, which for M_j >= 1 the
 // relative bound absorbs). A threshold above 2^1000 (an overflow near) decides nothing.
+// Contraction (detail/eft.hpp): every bound in this file is class C1 (fused, fl(Δ~_j +
+// t d_j) and the sums of squares round fewer times than counted); the distance
+// certificate and the sign checks of sign_near likewise; the Newton candidate g may
+// differ when fused, but the answer does not: it is the float where the proven signs
+// change, whatever candidate leads there.
 struct SphereCheapSigns {
     int q, slope;
 };

@@ -51,6 +51,9 @@ namespace rayproof::detail {
 // something in each bound, and 0·inf is NaN), and a~ >= 2^-1000 means d != 0, r >= 0 is
 // checked, and t_min <= t_max, t_min < +inf and -t_max < +inf in the lanes as the Aabb
 // checks them.
+// Contraction (detail/eft.hpp): class C1. A fused w~ = fl(A - B~) or D~ = fl(S~ - r·r·a~)
+// has one rounding fewer than counted; |w~| <= M then holds up to a factor (1 + u)^2,
+// which the slack between the terms counted (11u·M² at most) and gamma(13)·M² covers.
 template <class T> RAYPROOF_ALWAYS_INLINE int sphere_verdict_common(const Ray<T>& r, const Sphere<T>& s) {
     using namespace lanes;
     constexpr double eta = 0x1p-1000, g9 = 2 * gamma<double>(9), g6 = 2 * gamma<double>(6),
