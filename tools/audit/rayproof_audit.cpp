@@ -637,6 +637,15 @@ int main(int argc, char** argv) {
         return cli::usage_error;
     }
 
+    // The --save file is opened before the run, so that a bad path costs no run.
+    std::ofstream saved;
+    if (!o.save.empty()) {
+        saved.open(o.save);
+        if (!saved) {
+            std::cerr << "rayproof-audit: --save: cannot write " << o.save << '\n';
+            return 1;
+        }
+    }
     const unsigned hw = std::max(1u, std::thread::hardware_concurrency());
     Report report;
     report.cases = o.cases, report.seed = o.seed, report.shape = o.shape, report.type = o.type;
@@ -647,10 +656,9 @@ int main(int argc, char** argv) {
     for (auto& j : jobs)
         for (auto& r : j.rows) report.rows.push_back(std::move(r));
     if (!o.save.empty()) {
-        std::ofstream out(o.save);
-        save(report, out);
-        out.close();
-        if (!out) {
+        save(report, saved);
+        saved.close();
+        if (!saved) {
             std::cerr << "rayproof-audit: --save: cannot write " << o.save << '\n';
             return 1;
         }
