@@ -6,6 +6,7 @@
 // RC_PARAMS is not already set, so that a user's RC_PARAMS always wins:
 //   RC_PARAMS="max_success=1000000" ctest -L property
 //   RC_PARAMS="reproduce=..." ./ray_aabb_props --gtest_filter=...
+//   RAYPROOF_PROPS_CASE=123 RC_PARAMS="seed=20261121" ./ray_aabb_props --gtest_filter=...
 #include <gtest/gtest.h>
 
 #include <cstdlib>

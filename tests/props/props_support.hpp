@@ -2,20 +2,29 @@
 // template over the scalar type and the shape, instantiated for float and double by
 // RAYPROOF_PROPERTY_SUITE in each suite's file.
 //
-// Cases come from the shared generators (rayproof/generators.hpp): RapidCheck draws a
-// generator and a 64-bit seed, so every generator (general position, log-uniform, exact
-// grazing, near grazing, ±0 directions, boundary origins, extreme scenes, invalid inputs)
-// feeds every property, and a failure prints the call that rebuilds the case,
+// Cases come from the shared generators (rayproof/generators.hpp), stratified (strata.hpp):
+// of the N cases of a run (RC_PARAMS max_success=N, suite seed S from seed=S), case i is
+// generator i mod G's case from a seed hashed from (S, shape, type, i), so every generator
+// (general position, log-uniform, exact grazing, near grazing, ±0 directions, boundary
+// origins, extreme scenes, invalid inputs) gets N/G cases of every property, whatever
+// RapidCheck's size parameter. Each property prints its count of cases per generator. A
+// failing case is run again under RapidCheck, which shrinks the choices the property made
+// beyond the input (a scaling exponent, a permutation, a batch size), and the failure
+// prints the suite seed, the case index and the generator, the command that runs that
+// case alone (RAYPROOF_PROPS_CASE=i RC_PARAMS="seed=S" ... --gtest_filter=...), the call
+// that rebuilds the input,
 //   rayproof::gen::make_case<double, rayproof::Aabb<double>>("grazing", 0x...)
-// together with the inputs in hexfloat and RapidCheck's own reproduce string. What each
-// mode promises against the exact oracle is decided by the shared contract checker
-// (rayproof/oracle/contract.hpp), as in the fuzz targets and the audit.
+// the inputs in hexfloat, and RapidCheck's RC_PARAMS="reproduce=..." string, which replays
+// the shrunk case. What each mode promises against the exact oracle is decided by the
+// shared contract checker (rayproof/oracle/contract.hpp), as in the fuzz targets and the
+// audit.
 //
 // A property about a mode the kernel does not provide (rayproof::Answerable false) is
 // skipped with GTEST_SKIP and its reason, never passed silently.
 #pragma once
 
 #include <rayproof/generators.hpp>
+#include "strata.hpp"
 #include <rayproof/oracle/contract.hpp>
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
@@ -31,6 +40,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace rayproof::props {
@@ -55,24 +65,109 @@ template <class T, class Shape> std::string reproducer(std::string_view generato
     return os.str();
 }
 
-// A case drawn by RapidCheck: a generator of the shape and a seed.
+// The running test's name for --gtest_filter ("AabbProps/1.CertifiedEqualsOracle").
+inline std::string current_test() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    return std::string(info->test_suite_name()) + "." + info->name();
+}
+
+// Case i of the run (strata.hpp): its input and what reproduces it.
 template <class T, class Shape> struct Drawn {
+    const Plan<T, Shape>* plan;
+    std::uint64_t index;
     gen::Case<T, Shape> c;
-    std::uint64_t seed;
+
+    std::uint64_t seed() const { return plan->case_seed(index); }
+    std::uint64_t choice(std::uint64_t salt) const { return plan->choice(index, salt); }
     std::string where() const {
         std::ostringstream os;
-        os << reproducer<T, Shape>(c.generator, seed) << "\n  " << c;
+        os << "case " << index << " of suite seed " << plan->suite_seed << ", generator '" << c.generator
+           << "', case seed 0x" << std::hex << seed() << std::dec << "\n  this case alone: RAYPROOF_PROPS_CASE="
+           << index << " RC_PARAMS=\"seed=" << plan->suite_seed << "\" ./ray_" << gen::shape_name<Shape>()
+           << "_props --gtest_filter='" << current_test() << "'\n  its input: "
+           << reproducer<T, Shape>(c.generator, seed())
+           << "\n  " << c;
         return os.str();
     }
 };
-template <class T, class Shape> Drawn<T, Shape> draw() {
-    const auto gens = gen::generators<T, Shape>();
-    const auto i = *rc::gen::inRange<std::size_t>(0, gens.size());
-    const auto seed = *rc::gen::arbitrary<std::uint64_t>();
-    gen::Rng rng(seed);
-    Drawn<T, Shape> d{gens[i].make(rng), seed};
-    RC_LOG() << d.where() << '\n';
-    return d;
+
+// A choice of a case beyond its input (a scaling exponent, a permutation, a batch size).
+// PlainPick keeps the value the case seed chose; RapidPick hands it to RapidCheck, which,
+// once the case fails, shrinks it towards `target` while the failure persists (the value
+// does not depend on RapidCheck's Random or size, so its reproduce string replays it).
+struct PlainPick {
+    int operator()(int value, int) const { return value; }
+};
+struct RapidPick {
+    int operator()(int value, int target) const {
+        return *rc::Gen<int>([value, target](const rc::Random&, int) {
+            return rc::shrinkable::shrinkRecur(value, [target](int v) { return rc::shrink::towards(v, target); });
+        });
+    }
+};
+
+// Runs a property over the cases of the run: body(d, pick) returns a failure message or
+// nothing. The cases run as plain calls; the first that fails is run again under
+// RapidCheck (one test, id "<test>#seed=S,case=i"), which shrinks its picks and reports it with
+// its RC_PARAMS="reproduce=..." string. RC_PARAMS="reproduce=..." replays such a case: the
+// property it names runs that case alone, the others are skipped. Prints the number of
+// cases of each generator.
+template <class T, class Shape, class Body> void run_cases(Body body) {
+    namespace rcd = ::rc::detail;
+    const rcd::Configuration& config = rcd::configuration();
+    std::string error;
+    Plan<T, Shape> plan{config.testParams.seed, std::uint64_t(config.testParams.maxSuccess),
+                        case_from_environment(error)};
+    ASSERT_TRUE(error.empty()) << error;
+    const std::string test = current_test();
+
+    // The id names the test, the suite seed and the case: a reproduce string carries them.
+    const std::string prefix = test + "#seed=";
+    const auto under_rapidcheck = [&](std::uint64_t i) {
+        rcd::TestMetadata meta;
+        meta.id = prefix + std::to_string(plan.suite_seed) + ",case=" + std::to_string(i);
+        meta.description = meta.id;
+        rcd::TestParams params = config.testParams;
+        params.maxSuccess = 1;
+        const auto result = rcd::checkTestable(
+            [&] {
+                const Drawn<T, Shape> d{&plan, i, plan.make(i)};
+                if (const std::optional<std::string> failure = body(d, RapidPick{}))
+                    RC_FAIL(*failure + "\n  " + d.where());
+            },
+            meta, params);
+        std::ostringstream os;
+        rcd::printResultMessage(result, os);
+        if (result.template is<rcd::SuccessResult>())
+            ADD_FAILURE() << "case " << i << " failed, then passed when run again under RapidCheck (a property "
+                          << "that is not a function of its case?)\n  "
+                          << Drawn<T, Shape>{&plan, i, plan.make(i)}.where();
+        else
+            ADD_FAILURE() << os.str();
+    };
+
+    if (!config.reproduce.empty()) {
+        for (const auto& entry : config.reproduce) {
+            const std::string& id = entry.first;
+            const auto comma = id.find(",case=");
+            if (id.compare(0, prefix.size(), prefix) == 0 && comma != std::string::npos) {
+                plan.suite_seed = std::stoull(id.substr(prefix.size(), comma - prefix.size()));
+                under_rapidcheck(std::stoull(id.substr(comma + 6)));
+                return;
+            }
+        }
+        GTEST_SKIP() << "RC_PARAMS reproduce= names other properties";
+    }
+    std::vector<std::uint64_t> count(plan.generator_count(), 0);
+    for (std::uint64_t i = plan.first(); i < plan.end(); ++i) {
+        ++count[plan.generator_of(i)];
+        const Drawn<T, Shape> d{&plan, i, plan.make(i)};
+        if (body(d, PlainPick{})) {
+            under_rapidcheck(i);
+            break;
+        }
+    }
+    std::cout << shares_text<T, Shape>(count) << '\n';
 }
 
 // Calls f(mode) for each mode the kernel answers for (T, Shape).
@@ -97,22 +192,53 @@ template <class T, class Shape, class Mode> std::string skip_reason(Mode m) {
            "<" + std::string(gen::scalar_name<T>()) + "> in this build (rayproof::Answerable is false)";
 }
 
+// The bits of a case's input (ray and shape), to compare inputs exactly.
+template <class T> void append_bits(std::string& out, T x) { out.append(reinterpret_cast<const char*>(&x), sizeof x); }
+template <class T, int R, int C> void append_bits(std::string& out, const Eigen::Matrix<T, R, C>& m) {
+    for (Eigen::Index i = 0; i < m.size(); ++i) append_bits(out, m.data()[i]);
+}
+template <class T> void append_shape(std::string& out, const Aabb<T>& b) {
+    append_bits(out, b.lo), append_bits(out, b.hi);
+}
+template <class T> void append_shape(std::string& out, const Obb<T>& b) {
+    append_bits(out, b.center), append_bits(out, b.axes), append_bits(out, b.half_extent);
+}
+template <class T> void append_shape(std::string& out, const Plane<T>& p) {
+    append_bits(out, p.normal), append_bits(out, p.offset);
+}
+template <class T> void append_shape(std::string& out, const Sphere<T>& s) {
+    append_bits(out, s.center), append_bits(out, s.radius);
+}
+template <class T, class Shape> std::string input_bytes(const gen::Case<T, Shape>& c) {
+    std::string out;
+    append_bits(out, c.ray.origin), append_bits(out, c.ray.direction), append_bits(out, c.ray.t_min),
+        append_bits(out, c.ray.t_max);
+    append_shape(out, c.shape);
+    return out;
+}
+
+// Salts of the choices a property makes beyond the input (Plan::choice).
+inline constexpr std::uint64_t kScaleSalt = 1, kPermutationSalt = 2, kBatchSalt = 3;
+
 template <class T, class Shape> struct Tester {
     static constexpr bool has_conservative = Answerable<T, Shape, conservative_t>;
     static constexpr bool has_certified = Answerable<T, Shape, certified_t>;
 
+    using Failure = std::optional<std::string>;
+
     // Every mode answers invalid exactly for the inputs the contract calls invalid.
     static void invalid_agrees() {
-        rc::detail::checkGTest([] {
-            const auto d = draw<T, Shape>();
+        run_cases<T, Shape>([](const auto& d, auto) -> Failure {
             const auto e = oracle::exact(d.c.ray, d.c.shape);
             const bool exact_invalid = e.verdict == Verdict::invalid;
+            Failure failure;
             for_each_mode<T, Shape>([&](auto mode) {
                 const Hit<T> h = intersect(d.c.ray, d.c.shape, mode);
-                if (oracle::check_contract(d.c.ray, d.c.shape, h, e, mode).invalid_mismatch())
-                    RC_FAIL(std::string(mode_name(mode)) + " answered " + to_string(h.verdict) + ", exact validity is " +
-                            (exact_invalid ? "invalid" : "valid") + "\n  " + d.where());
+                if (!failure && oracle::check_contract(d.c.ray, d.c.shape, h, e, mode).invalid_mismatch())
+                    failure = std::string(mode_name(mode)) + " answered " + to_string(h.verdict) +
+                              ", exact validity is " + (exact_invalid ? "invalid" : "valid");
             });
+            return failure;
         });
     }
 
@@ -121,16 +247,14 @@ template <class T, class Shape> struct Tester {
         if constexpr (!has_conservative) {
             GTEST_SKIP() << skip_reason<T, Shape>(conservative);
         } else {
-            rc::detail::checkGTest([] {
-                const auto d = draw<T, Shape>();
+            run_cases<T, Shape>([](const auto& d, auto) -> Failure {
                 const auto e = oracle::exact(d.c.ray, d.c.shape);
                 const Hit<T> h = intersect(d.c.ray, d.c.shape, conservative);
                 const auto c = oracle::check_contract(d.c.ray, d.c.shape, h, e, conservative);
-                if (c.promise_broken()) {
-                    std::ostringstream os;
-                    os << "conservative " << h << "\n  " << e << "\n  " << c.mode_judgement() << "\n  " << d.where();
-                    RC_FAIL(os.str());
-                }
+                if (!c.promise_broken()) return std::nullopt;
+                std::ostringstream os;
+                os << "conservative " << h << "\n  " << e << "\n  " << c.mode_judgement();
+                return os.str();
             });
         }
     }
@@ -140,16 +264,14 @@ template <class T, class Shape> struct Tester {
         if constexpr (!has_certified) {
             GTEST_SKIP() << skip_reason<T, Shape>(certified);
         } else {
-            rc::detail::checkGTest([] {
-                const auto d = draw<T, Shape>();
+            run_cases<T, Shape>([](const auto& d, auto) -> Failure {
                 const auto e = oracle::exact(d.c.ray, d.c.shape);
                 const Hit<T> h = intersect(d.c.ray, d.c.shape, certified);
                 const auto c = oracle::check_contract(d.c.ray, d.c.shape, h, e, certified);
-                if (c.promise_broken()) {
-                    std::ostringstream os;
-                    os << "certified " << h << "\n  " << e << "\n  " << c.mode_judgement() << "\n  " << d.where();
-                    RC_FAIL(os.str());
-                }
+                if (!c.promise_broken()) return std::nullopt;
+                std::ostringstream os;
+                os << "certified " << h << "\n  " << e << "\n  " << c.mode_judgement();
+                return os.str();
             });
         }
     }
@@ -161,22 +283,23 @@ template <class T, class Shape> struct Tester {
         if constexpr (!has_conservative && !has_certified) {
             GTEST_SKIP() << skip_reason<T, Shape>(certified) << "; neither is the conservative mode";
         } else {
-            rc::detail::checkGTest([] {
-                const auto d = draw<T, Shape>();
+            run_cases<T, Shape>([](const auto& d, auto) -> Failure {
+                Failure failure;
                 const auto check = [&](auto mode, bool in_range) {
                     const Hit<T> h = intersect(d.c.ray, d.c.shape, mode);
-                    if (h.verdict != Verdict::hit) return;
+                    if (failure || h.verdict != Verdict::hit) return;
                     bool ok = h.t_enter <= h.t_exit;
                     if (in_range) ok = ok && d.c.ray.t_min <= h.t_enter && h.t_exit <= d.c.ray.t_max;
                     if (!ok) {
                         std::ostringstream os;
                         os << mode_name(mode) << " " << h << " is not an ordered interval"
-                           << (in_range ? " within [t_min, t_max]" : "") << "\n  " << d.where();
-                        RC_FAIL(os.str());
+                           << (in_range ? " within [t_min, t_max]" : "");
+                        failure = os.str();
                     }
                 };
                 if constexpr (has_conservative) check(conservative, false);
                 if constexpr (has_certified) check(certified, true);
+                return failure;
             });
         }
     }
@@ -185,30 +308,31 @@ template <class T, class Shape> struct Tester {
     // the plane normal by 2^j) is exact and leaves the exact answer unchanged, so certified
     // must give the same verdict and face and, for each t, the same value or the adjacent
     // float (both are faithful roundings of one exact value; the contract allows either).
+    // k != 0 always (choose_scaling, strata.hpp); a case no k != 0 scales exactly (a NaN
+    // or infinite input, values at both ends of the range) has nothing to compare. On a
+    // failure RapidCheck shrinks k towards ±1 and j towards 0.
     static void certified_scale_invariant() {
         if constexpr (!has_certified) {
             GTEST_SKIP() << skip_reason<T, Shape>(certified);
         } else {
-            rc::detail::checkGTest([] {
-                const auto d = draw<T, Shape>();
-                constexpr int E = std::numeric_limits<T>::max_exponent - std::numeric_limits<T>::min_exponent;
-                int k = *rc::gen::inRange(-E, E + 1), j = *rc::gen::inRange(-E / 2, E / 2 + 1);
+            run_cases<T, Shape>([](const auto& d, auto pick) -> Failure {
+                const std::optional<Scaling> chosen = choose_scaling(d.c, d.choice(kScaleSalt));
+                if (!chosen) return std::nullopt;
+                const int k = pick(chosen->k, chosen->k < 0 ? -1 : 1), j = pick(chosen->j, 0);
                 auto scaled = d.c;
-                while ((k != 0 || j != 0) && !gen::exact_scale(scaled, k, k, j)) {
-                    k /= 2;
-                    j /= 2;
+                if (!scale_exactly(scaled, k, j)) {
+                    RC_DISCARD("a shrunk exponent that does not scale exactly");
                 }
-                RC_LOG() << "scaled by 2^" << k << " (axes/normal 2^" << j << "): " << scaled << '\n';
                 const Hit<T> a = intersect(d.c.ray, d.c.shape, certified);
                 const Hit<T> b = intersect(scaled.ray, scaled.shape, certified);
-                if (a.verdict != b.verdict || a.face != b.face ||
-                    (a.verdict == Verdict::hit &&
-                     (!same_or_adjacent(a.t_enter, b.t_enter) || !same_or_adjacent(a.t_exit, b.t_exit)))) {
-                    std::ostringstream os;
-                    os << "certified " << a << " but after scaling by 2^" << k << " (axes 2^" << j << ") " << b
-                       << "\n  scaled " << scaled << "\n  " << d.where();
-                    RC_FAIL(os.str());
-                }
+                if (a.verdict == b.verdict && a.face == b.face &&
+                    (a.verdict != Verdict::hit ||
+                     (same_or_adjacent(a.t_enter, b.t_enter) && same_or_adjacent(a.t_exit, b.t_exit))))
+                    return std::nullopt;
+                std::ostringstream os;
+                os << "certified " << a << " but after scaling by 2^" << k << " (axes 2^" << j << ") " << b
+                   << "\n  scaled " << scaled;
+                return os.str();
             });
         }
     }
@@ -221,11 +345,10 @@ template <class T, class Shape> struct Tester {
         if constexpr (!has_certified) {
             GTEST_SKIP() << skip_reason<T, Shape>(certified);
         } else {
-            rc::detail::checkGTest([] {
+            run_cases<T, Shape>([](const auto& d, auto pick) -> Failure {
                 static constexpr std::array<std::array<int, 3>, 5> perms = {
                     {{0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
-                const auto d = draw<T, Shape>();
-                const auto& p = perms[*rc::gen::inRange<std::size_t>(0, perms.size())];
+                const auto& p = perms[std::size_t(pick(int(d.choice(kPermutationSalt) % perms.size()), 0))];
                 const auto q = gen::permute_axes(d.c, p);
                 const Hit<T> a = intersect(d.c.ray, d.c.shape, certified);
                 const Hit<T> b = intersect(q.ray, q.shape, certified);
@@ -245,12 +368,11 @@ template <class T, class Shape> struct Tester {
                             ok = ok && b.face % 2 == int(std::signbit(q.ray.direction[new_axis]));
                     }
                 }
-                if (!ok) {
-                    std::ostringstream os;
-                    os << "certified " << a << " but with axes permuted (" << p[0] << p[1] << p[2] << ") " << b
-                       << "\n  permuted " << q << "\n  " << d.where();
-                    RC_FAIL(os.str());
-                }
+                if (ok) return std::nullopt;
+                std::ostringstream os;
+                os << "certified " << a << " but with axes permuted (" << p[0] << p[1] << p[2] << ") " << b
+                   << "\n  permuted " << q;
+                return os.str();
             });
         }
     }
@@ -262,48 +384,47 @@ template <class T, class Shape> struct Tester {
         if constexpr (!has_certified) {
             GTEST_SKIP() << skip_reason<T, Shape>(certified);
         } else {
-            rc::detail::checkGTest([] {
-                const auto d = draw<T, Shape>();
+            run_cases<T, Shape>([](const auto& d, auto) -> Failure {
                 const Ray<T> r = reversed(d.c.ray);
                 const Hit<T> a = intersect(d.c.ray, d.c.shape, certified);
                 const Hit<T> b = intersect(r, d.c.shape, certified);
-                if (a.verdict != b.verdict ||
-                    (a.verdict == Verdict::hit &&
-                     (!same_or_adjacent(b.t_enter, T(-a.t_exit)) || !same_or_adjacent(b.t_exit, T(-a.t_enter))))) {
-                    std::ostringstream os;
-                    os << "certified " << a << " but reversed " << b << "\n  reversed ray " << r << "\n  " << d.where();
-                    RC_FAIL(os.str());
-                }
+                if (a.verdict == b.verdict &&
+                    (a.verdict != Verdict::hit ||
+                     (same_or_adjacent(b.t_enter, T(-a.t_exit)) && same_or_adjacent(b.t_exit, T(-a.t_enter)))))
+                    return std::nullopt;
+                std::ostringstream os;
+                os << "certified " << a << " but reversed " << b << "\n  reversed ray " << r;
+                return os.str();
             });
         }
     }
 
-    // The batch form equals the scalar form element by element, bit for bit, in every mode.
+    // The batch form equals the scalar form element by element, bit for bit, in every mode:
+    // the batch is case i's ray followed by n - 1 more rays of its generator from the same
+    // Rng (n in [1, 16], shrunk towards 1 on a failure), against case i's shape.
     static void batch_equals_scalar() {
-        rc::detail::checkGTest([] {
-            const auto gens = gen::generators<T, Shape>();
-            const auto gi = *rc::gen::inRange<std::size_t>(0, gens.size());
-            const auto seed = *rc::gen::arbitrary<std::uint64_t>();
-            const auto n = *rc::gen::inRange<std::size_t>(1, 17);
-            gen::Rng rng(seed);
-            const auto first = gens[gi].make(rng);
+        run_cases<T, Shape>([](const auto& d, auto pick) -> Failure {
+            const auto& g = gen::generators<T, Shape>()[d.plan->generator_of(d.index)];
+            const auto n = std::size_t(pick(1 + int(d.choice(kBatchSalt) % 16), 1));
+            gen::Rng rng(d.seed());
+            const auto first = g.make(rng);  // == d.c
             std::vector<Ray<T>> rays{first.ray};
-            while (rays.size() < n) rays.push_back(gens[gi].make(rng).ray);
-            RC_LOG() << "generator " << gens[gi].name << " seed 0x" << std::hex << seed << std::dec << ", " << n
-                     << " rays from one Rng, shape of the first: " << first.shape << '\n';
+            while (rays.size() < n) rays.push_back(g.make(rng).ray);
+            Failure failure;
             for_each_mode<T, Shape>([&](auto mode) {
                 std::vector<Hit<T>> out(rays.size());
                 intersect(std::span<const Ray<T>>(rays), first.shape, mode, std::span<Hit<T>>(out));
-                for (std::size_t i = 0; i < rays.size(); ++i) {
+                for (std::size_t i = 0; i < rays.size() && !failure; ++i) {
                     const Hit<T> s = intersect(rays[i], first.shape, mode);
                     if (!identical(s, out[i])) {
                         std::ostringstream os;
-                        os << mode_name(mode) << " ray " << i << " " << rays[i] << ": batch " << out[i] << ", scalar "
-                           << s;
-                        RC_FAIL(os.str());
+                        os << mode_name(mode) << " ray " << i << " of " << n << " " << rays[i] << ": batch " << out[i]
+                           << ", scalar " << s;
+                        failure = os.str();
                     }
                 }
             });
+            return failure;
         });
     }
 
@@ -311,33 +432,77 @@ template <class T, class Shape> struct Tester {
     // in every mode, and in certified mode the oracle's verdict (so a verdict path of its
     // own, as the certified Aabb has, cannot drift from the full query).
     static void verdict_query_equals_full_query() {
-        rc::detail::checkGTest([] {
-            const auto d = draw<T, Shape>();
+        run_cases<T, Shape>([](const auto& d, auto) -> Failure {
             const Verdict exact = oracle::exact(d.c.ray, d.c.shape).verdict;
             const std::vector<Ray<T>> rays{d.c.ray, reversed(d.c.ray)};
+            Failure failure;
             for_each_mode<T, Shape>([&](auto mode) {
+                if (failure) return;
                 std::vector<Verdict> batch(rays.size());
                 verdict(std::span<const Ray<T>>(rays), d.c.shape, mode, std::span<Verdict>(batch));
-                for (std::size_t i = 0; i < rays.size(); ++i) {
+                for (std::size_t i = 0; i < rays.size() && !failure; ++i) {
                     const Hit<T> full = intersect(rays[i], d.c.shape, mode);
                     const Verdict alone = verdict(rays[i], d.c.shape, mode);
                     if (alone != full.verdict || batch[i] != full.verdict) {
                         std::ostringstream os;
                         os << mode_name(mode) << (i ? " (reversed ray)" : "") << ": verdict() " << alone << ", batch "
-                           << batch[i] << ", full answer " << full << "\n  " << d.where();
-                        RC_FAIL(os.str());
+                           << batch[i] << ", full answer " << full;
+                        failure = os.str();
                     }
                 }
                 if constexpr (std::is_same_v<decltype(mode), certified_t>) {
-                    if (verdict(d.c.ray, d.c.shape, mode) != exact) {
+                    if (!failure && verdict(d.c.ray, d.c.shape, mode) != exact) {
                         std::ostringstream os;
-                        os << "certified verdict() " << verdict(d.c.ray, d.c.shape, mode) << ", exact " << exact << "\n  "
-                           << d.where();
-                        RC_FAIL(os.str());
+                        os << "certified verdict() " << verdict(d.c.ray, d.c.shape, mode) << ", exact " << exact;
+                        failure = os.str();
                     }
                 }
             });
+            return failure;
         });
+    }
+
+    // The mix of a run (strata.hpp) at the suite's own case count and seed: every generator
+    // gets at least floor(N/G) of the N cases, no two cases have the same input (bit for
+    // bit), and the scaling property scales every case by 2^k with k != 0, exactly, except
+    // the cases that neither k = 1 nor k = -1 scales exactly (counted and printed).
+    static void stratified_shares() {
+        const auto& params = rc::detail::configuration().testParams;
+        const Plan<T, Shape> plan{params.seed, std::uint64_t(params.maxSuccess), std::nullopt};
+        const auto gens = gen::generators<T, Shape>();
+        const std::vector<std::uint64_t> n = shares(plan);
+        std::uint64_t total = 0;
+        for (std::size_t g = 0; g < gens.size(); ++g) {
+            total += n[g];
+            EXPECT_GE(n[g], plan.cases / gens.size()) << gens[g].name << " gets less than 1/G of the cases";
+        }
+        EXPECT_EQ(total, plan.cases);
+
+        std::unordered_map<std::string, std::uint64_t> seen;
+        std::vector<std::uint64_t> unscaled(gens.size(), 0), repeated(gens.size(), 0);
+        for (std::uint64_t i = 0; i < plan.cases; ++i) {
+            const auto c = plan.make(i);
+            const std::size_t g = plan.generator_of(i);
+            const auto [at, fresh] = seen.emplace(input_bytes(c), i);
+            if (!fresh && ++repeated[g] <= 3)
+                ADD_FAILURE() << "cases " << at->second << " and " << i << " have the same input: " << c;
+            if (const auto s = choose_scaling(c, plan.choice(i, kScaleSalt))) {
+                auto scaled = c;
+                EXPECT_NE(s->k, 0) << "case " << i << ": " << c;
+                EXPECT_TRUE(scale_exactly(scaled, s->k, s->j))
+                    << "case " << i << ": 2^" << s->k << " (axes 2^" << s->j << ") is not exact: " << c;
+            } else {
+                ++unscaled[g];
+                auto up = c, down = c;
+                EXPECT_FALSE(scale_exactly(up, 1, 0) || scale_exactly(down, -1, 0))
+                    << "case " << i << " is left unscaled, yet 2^±1 scales it exactly: " << c;
+            }
+        }
+        std::ostringstream os;
+        os << shares_text<T, Shape>(n) << "\n  distinct inputs " << seen.size() << " of " << plan.cases
+           << "; cases no 2^k (k != 0) scales exactly:";
+        for (std::size_t g = 0; g < gens.size(); ++g) os << ' ' << gens[g].name << ' ' << unscaled[g];
+        std::cout << os.str() << '\n';
     }
 
     // The fast mode promises no accuracy: its wrong answers are counted per generator and
@@ -407,4 +572,5 @@ template <class T, class Shape> struct Tester {
     TYPED_TEST(Suite, CertifiedReversalMirrorsInterval) { Suite##Tester<TypeParam>::certified_reversal(); }    \
     TYPED_TEST(Suite, BatchEqualsScalar) { Suite##Tester<TypeParam>::batch_equals_scalar(); }                  \
     TYPED_TEST(Suite, VerdictQueryEqualsFullQuery) { Suite##Tester<TypeParam>::verdict_query_equals_full_query(); } \
-    TYPED_TEST(Suite, FastModeErrorsPerGenerator) { Suite##Tester<TypeParam>::fast_mode_error_counts(); }
+    TYPED_TEST(Suite, FastModeErrorsPerGenerator) { Suite##Tester<TypeParam>::fast_mode_error_counts(); }      \
+    TYPED_TEST(Suite, StratifiedShares) { Suite##Tester<TypeParam>::stratified_shares(); }
