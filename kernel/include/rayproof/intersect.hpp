@@ -55,11 +55,11 @@ template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
     if constexpr (detail::fp_env_guarded<Mode>)
-        if (!detail::fp_env_is_default()) [[unlikely]]
-            return detail::in_established_fp_env(
-                [](const Ray<T>& r, const Shape& s) noexcept { return detail::query(r, detail::prepare(s), Mode{}); },
-                ray, shape);
-    return detail::query(ray, detail::prepare(shape), mode);
+        return detail::in_default_fp_env_inline(
+            [](const Ray<T>& r, const Shape& s) RAYPROOF_INLINE_LAMBDA { return detail::query(r, detail::prepare(s), Mode{}); },
+            ray, shape);
+    else
+        return detail::query(ray, detail::prepare(shape), mode);
 }
 
 // Batch form: out[i] = intersect(rays[i], shape, mode). The shape is validated and
@@ -102,11 +102,11 @@ template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
     if constexpr (detail::fp_env_guarded<Mode>)
-        if (!detail::fp_env_is_default()) [[unlikely]]
-            return detail::in_established_fp_env(
-                [](const Ray<T>& r, const Shape& s) noexcept { return detail::verdict_query(r, detail::prepare(s), Mode{}); },
-                ray, shape);
-    return detail::verdict_query(ray, detail::prepare(shape), mode);
+        return detail::in_default_fp_env_inline(
+            [](const Ray<T>& r, const Shape& s) RAYPROOF_INLINE_LAMBDA { return detail::verdict_query(r, detail::prepare(s), Mode{}); },
+            ray, shape);
+    else
+        return detail::verdict_query(ray, detail::prepare(shape), mode);
 }
 
 // Batch form: out[i] = verdict(rays[i], shape, mode), the shape prepared once.

@@ -13,14 +13,16 @@
 // spheres. Unmasked exceptions (feenableexcept) would turn the kernel's deliberate 1/±0
 // into a SIGFPE.
 //
-// What the guard does. fp_env_is_default() reads the control state (x86: one _mm_getcsr,
-// an AND and a compare) and the public entry points take the common case, the default
-// environment, without any other cost: the query is the same inlined code as before. In
-// a foreign environment they call in_established_fp_env, out of line: an FpEnvGuard sets
-// the default control state (keeping the caller's sticky exception flags as they were),
-// the query runs, and the guard's destructor writes the caller's state back, exactly as
-// it was read (so the flags the kernel's own arithmetic raised are dropped in that case;
-// the kernel promises nothing about the flags).
+// What the guard does. Each guarded entry point reads the control state (x86: one
+// _mm_getcsr, an AND and a compare) and takes the common case, the default environment,
+// with no other cost: the query is the same inlined code as before. In a foreign
+// environment it sets the default control state (keeping the caller's sticky exception
+// flags as they were), answers, and writes the caller's word back exactly as it was read
+// (so the flags the kernel's own arithmetic raised are dropped in that case; the kernel
+// promises nothing about the flags). The scalar queries do this inline
+// (in_default_fp_env_inline, below: two asm statements, no call); the batch forms,
+// normal() and the surface-point helpers out of line, once per call
+// (in_established_fp_env, with an FpEnvGuard).
 //
 // The state, per architecture:
 //   x86 / x86-64 with SSE2 (FLT_EVAL_METHOD == 0 is required anyway): MXCSR. The control
@@ -41,8 +43,10 @@
 // without -frounding-math (or -ffp-model=strict) assume the default environment and treat
 // arithmetic as free of side effects: they may compute a product before _mm_setcsr or
 // fesetround, or after the restore, wherever its operands and uses allow. The kernel does
-// not ask its users for those flags (they slow everything down); instead the out-of-line
-// path gives the compiler no freedom:
+// not ask its users for those flags (they slow everything down); instead both paths give
+// the compiler no freedom. The inline one: the switch and the laundering of the input
+// pointers are one asm statement, the pinning of the result's fields (in-out register
+// operands) and the restore another (in_default_fp_env_inline). The out-of-line one:
 //   - it is a separate function (gnu::noinline), so none of its work can migrate into the
 //     caller's code, nor the caller's into it;
 //   - after the switch, every input is read through a pointer that comes out of an empty
@@ -55,10 +59,10 @@
 //     (fp_env_fence_output), so every operation that feeds it is done before it, and the
 //     restore, volatile again, comes after. The batch forms store through `out` and end
 //     with a "memory" clobber (fp_env_fence_memory), which no store may cross.
-// This is the technique of detail::narrow (an empty asm the optimizer cannot see
-// through), applied to the inputs and outputs. It costs nothing in the default path
-// (there is no asm there: nothing to keep apart) and one store and load per result in the
-// foreign one. Constants folded at compile time are folded in round-to-nearest, which is
+// This is the technique of detail::narrow (an asm the optimizer cannot see through),
+// applied to the inputs and outputs. The default path has no asm (nothing to keep apart:
+// the environment does not change there); its cost, measured in docs/trade.md, is the
+// read and a few ns of register pressure from the inputs' two possible addresses. Constants folded at compile time are folded in round-to-nearest, which is
 // what the kernel needs. A compiler without GNU asm (MSVC) gets no fences: it must be
 // told (/fp:strict or #pragma fenv_access(on)) not to move arithmetic across
 // _mm_setcsr; that configuration is not checked by the suites.
@@ -79,6 +83,7 @@
 // another (an ODR violation).
 #pragma once
 
+#include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/fp_model.hpp>
 #include <rayproof/types.hpp>
 
@@ -93,6 +98,14 @@
 #else
 #define RAYPROOF_FP_ENV_CFENV 1
 #include <cfenv>
+#endif
+
+// A lambda handed to in_default_fp_env_inline is forced inline as well (placed after its
+// parameter list), so that the guarded query is the same inline code as the plain one.
+#if defined(__GNUC__) || defined(__clang__)
+#define RAYPROOF_INLINE_LAMBDA __attribute__((always_inline))
+#else
+#define RAYPROOF_INLINE_LAMBDA
 #endif
 
 namespace rayproof::detail {
@@ -200,6 +213,72 @@ template <class F, class... In>
     if (!fp_env_is_default()) [[unlikely]]
         return in_established_fp_env(f, in...);
     return f(in...);
+}
+
+// The scalar queries' form, inline: a call out of line inside the caller's loop would
+// make every value the loop keeps in an XMM register live across a call (all of them are
+// caller-saved), and the compiler spills them on the default path too (measured: +10 ns
+// per certified plane query). Here the foreign branch is two instructions and no call:
+// one asm statement sets the default and launders the input pointers (x86: ldmxcsr; the
+// "memory" clobber makes the caller's stores to the inputs happen before it), the query
+// runs inline on the laundered pointers, and one asm statement takes the result's fields
+// as in-out register operands and restores the caller's word, so the query's arithmetic
+// happens between the two and the caller's use of the result after the restore. The
+// default branch reads the word, compares and goes on with the same inline query. On a
+// target without the two asm forms, the restore is a call after a memory fence.
+template <class A, class B> RAYPROOF_ALWAYS_INLINE void fp_env_enter(FpEnvWord w, const A*& a, const B*& b) noexcept {
+#if defined(RAYPROOF_FP_ENV_MXCSR) && (defined(__GNUC__) || defined(__clang__))
+    __asm__ volatile("ldmxcsr %2" : "+r"(a), "+r"(b) : "m"(w) : "memory");
+#elif defined(RAYPROOF_FP_ENV_FPCR)
+    __asm__ volatile("msr fpcr, %2" : "+r"(a), "+r"(b) : "r"(w) : "memory");
+#else
+    fp_env_write(w);
+    a = &fp_env_fence_input(*a);
+    b = &fp_env_fence_input(*b);
+#endif
+}
+template <class T> RAYPROOF_ALWAYS_INLINE void fp_env_leave(FpEnvWord w, Hit<T>& h) noexcept {
+    int v = static_cast<int>(h.verdict);
+#if defined(RAYPROOF_FP_ENV_MXCSR) && (defined(__GNUC__) || defined(__clang__))
+    __asm__ volatile("ldmxcsr %4" : "+x"(h.t_enter), "+x"(h.t_exit), "+r"(h.face), "+r"(v) : "m"(w));
+#elif defined(RAYPROOF_FP_ENV_FPCR)
+    __asm__ volatile("msr fpcr, %4" : "+w"(h.t_enter), "+w"(h.t_exit), "+r"(h.face), "+r"(v) : "r"(w));
+#else
+    fp_env_fence_output(h);
+    fp_env_write(w);
+#endif
+    h.verdict = static_cast<Verdict>(v);
+}
+RAYPROOF_ALWAYS_INLINE void fp_env_leave(FpEnvWord w, Verdict& verdict) noexcept {
+    int v = static_cast<int>(verdict);
+#if defined(RAYPROOF_FP_ENV_MXCSR) && (defined(__GNUC__) || defined(__clang__))
+    __asm__ volatile("ldmxcsr %1" : "+r"(v) : "m"(w));
+#elif defined(RAYPROOF_FP_ENV_FPCR)
+    __asm__ volatile("msr fpcr, %1" : "+r"(v) : "r"(w));
+#else
+    fp_env_fence_output(v);
+    fp_env_write(w);
+#endif
+    verdict = static_cast<Verdict>(v);
+}
+
+// f(ray, shape) in the default environment, inline (above): for the scalar queries.
+template <class F, class R, class S>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE auto in_default_fp_env_inline(F f, const R& ray, const S& shape) noexcept {
+#if defined(RAYPROOF_NO_FP_ENV_GUARD)
+    return f(ray, shape);
+#else
+    const FpEnvWord saved = fp_env_read();
+    const bool foreign = (saved & fp_env_control) != fp_env_default;
+    const R* r = &ray;
+    const S* s = &shape;
+    if (foreign) [[unlikely]]
+        fp_env_enter(static_cast<FpEnvWord>((saved & ~fp_env_control) | fp_env_default), r, s);
+    auto result = f(*r, *s);
+    if (foreign) [[unlikely]]
+        fp_env_leave(saved, result);
+    return result;
+#endif
 }
 
 // The modes whose promises need the default environment.
