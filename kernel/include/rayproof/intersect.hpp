@@ -6,7 +6,8 @@
 // In the certified and conservative modes every entry point answers in the default
 // floating-point environment whatever the caller's (detail/fp_env.hpp): it reads the
 // control state once per call (once per batch), and only when that differs from the
-// default does it switch, answer out of line and restore the caller's state.
+// default does it switch, answer and restore the caller's state (a scalar query inline,
+// a batch out of line).
 #pragma once
 
 #include <rayproof/detail/float_util.hpp>
