@@ -11,6 +11,8 @@
 //   paired/<shape>/<float|double>/uniform/epeck_over_certified_verdict
 //                                                       CGAL Epeck's do_intersect over the
 //                                                       certified verdict query, in pairs
+//   fpenv/<shape>/<float|double>/<mode>/{guard,foreign}  the floating-point environment
+//                                                       guard's cost, in pairs (fp_env_bench.cpp)
 // Methods: the kernel's modes fast, conservative, certified, and certified_verdict (the
 // verdict query alone, rayproof::verdict in certified mode); the baselines textbook,
 // branchless (boxes), cgal_epeck, cgal_rational (Aabb, Plane, Sphere), embree and
@@ -251,6 +253,7 @@ void register_aabb();
 void register_obb();
 void register_plane();
 void register_sphere();
+void register_fp_env();  // fp_env_bench.cpp
 void register_cgal();    // cgal_bench.cpp
 void register_embree();  // embree_bench.cpp
 

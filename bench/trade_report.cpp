@@ -139,6 +139,7 @@ struct Timing {
     double hit_rate = NAN;
     double cases = NAN;
     double ratio = NAN;  // paired/ benchmarks: the second method over the first, median over pairs
+    double a_ns = NAN, b_ns = NAN, delta_ns = NAN;  // fpenv/ pairs: each pass per query, their difference
 };
 
 double to_ns(double t, const std::string& unit) {
@@ -171,6 +172,9 @@ Timing timing_of(const json& b, const json* cv) {
     t.ns = to_ns(b["cpu_time"].get<double>(), b.value("time_unit", "ns")) / t.cases;
     if (b.contains("hit_rate")) t.hit_rate = b["hit_rate"].get<double>();
     if (b.contains("ratio")) t.ratio = b["ratio"].get<double>();
+    if (b.contains("a_ns")) t.a_ns = b["a_ns"].get<double>();
+    if (b.contains("b_ns")) t.b_ns = b["b_ns"].get<double>();
+    if (b.contains("delta_ns")) t.delta_ns = b["delta_ns"].get<double>();
     if (cv) t.cv = (*cv)["cpu_time"].get<double>();
     return t;
 }
@@ -519,6 +523,34 @@ std::string batch_table(const Report& r) {
     return prose()("batch", {{"table", o}});
 }
 
+// The environment guard's cost (bench/fp_env_bench.cpp): per shape, type and guarded
+// mode, the query without and with the guard in the default environment, their paired
+// difference, and the query called from a foreign environment.
+std::string fp_env_table(const Report& r) {
+    std::string o = row({"shape", "type", "mode", "guard off", "guard, default", "cost", "× guard off", "foreign",
+                         "foreign cost"}) +
+                    rule(3, 6);
+    bool any = false;
+    for (const auto& s : kShapes)
+        for (const auto& t : kTypes)
+            for (const char* m : {"certified", "conservative"}) {
+                const auto g = r.timing.find("fpenv/" + s + "/" + t + "/" + m + "/guard");
+                const auto f = r.timing.find("fpenv/" + s + "/" + t + "/" + m + "/foreign");
+                if (g == r.timing.end() && f == r.timing.end()) continue;
+                any = true;
+                const Timing none;
+                const Timing& gt = g == r.timing.end() ? none : g->second;
+                const Timing& ft = f == r.timing.end() ? none : f->second;
+                o += row({kShapeLabel.at(s), t, m, num(gt.a_ns), num(gt.b_ns), num(gt.delta_ns, 2), num(gt.ratio),
+                          num(ft.b_ns), num(ft.delta_ns)});
+            }
+    if (!any) return prose()("fp_env.none");
+    const bool x86 = r.context.is_object() && r.context.value("fp_env_x86", std::string("1")) == "1";
+    return prose()("fp_env", {{"table", o},
+                              {"probe", x86 ? "one `_mm_getcsr`, an AND and a compare" : "`fegetround`"},
+                              {"foreign", x86 ? "MXCSR FTZ and DAZ" : "FE_UPWARD"}});
+}
+
 // The generators with exact-stage counts, in the registry's order, unknown ones last.
 std::vector<std::string> counted_generators(const Report& r) {
     std::vector<std::string> gens;
@@ -728,6 +760,7 @@ std::string full_report(const Report& r, const Args& a, const Vars& common) {
     Vars v = common;
     v["plot"] = a.plot_ref.empty() ? "" : prose()("report.plot", {{"plot_ref", a.plot_ref}});
     v["batch"] = batch_table(r);
+    v["fp_env"] = fp_env_table(r);
     v["exact_stage"] = exact_stage_table(r);
     v["tracer"] = tracer_table(r, a.tracer_png);
     for (const auto& s : kShapes)

@@ -2,9 +2,16 @@
 // one shape, in one of the three modes. The scalar and the batch forms share one code
 // path (detail::query on a prepared shape, declared by the shape headers included
 // below), so they cannot disagree.
+//
+// In the certified and conservative modes every entry point answers in the default
+// floating-point environment whatever the caller's (detail/fp_env.hpp): it reads the
+// control state once per call (once per batch), and only when that differs from the
+// default does it switch, answer and restore the caller's state (a scalar query inline,
+// a batch out of line).
 #pragma once
 
 #include <rayproof/detail/float_util.hpp>
+#include <rayproof/detail/fp_env.hpp>
 #include <rayproof/ray_aabb.hpp>
 #include <rayproof/ray_obb.hpp>
 #include <rayproof/ray_plane.hpp>
@@ -48,7 +55,12 @@ concept Answerable = is_scalar_v<T> && is_shape_v<Shape, T> && is_mode_v<Mode> &
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
-    return detail::query(ray, detail::prepare(shape), mode);
+    if constexpr (detail::fp_env_guarded<Mode>)
+        return detail::in_default_fp_env_inline(
+            [](const Ray<T>& r, const Shape& s) RAYPROOF_INLINE_LAMBDA { return detail::query(r, detail::prepare(s), Mode{}); },
+            ray, shape);
+    else
+        return detail::query(ray, detail::prepare(shape), mode);
 }
 
 // Batch form: out[i] = intersect(rays[i], shape, mode). The shape is validated and
@@ -60,8 +72,15 @@ template <class T, class Shape, class Mode>
 void intersect(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::span<Hit<T>> out) {
     if (out.size() != rays.size())
         detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
-    const auto prepared = detail::prepare(shape);
-    for (std::size_t i = 0; i < rays.size(); ++i) out[i] = detail::query(rays[i], prepared, mode);
+    static_cast<void>(mode);  // the tag's type is all the batch needs
+    const auto batch = [](std::span<const Ray<T>> r, const Shape& s, std::span<Hit<T>> o) noexcept {
+        const auto prepared = detail::prepare(s);
+        for (std::size_t i = 0; i < r.size(); ++i) o[i] = detail::query(r[i], prepared, Mode{});
+    };
+    if constexpr (detail::fp_env_guarded<Mode>)
+        if (!detail::fp_env_is_default()) [[unlikely]]
+            return detail::in_established_fp_env(batch, rays, shape, out);
+    batch(rays, shape, out);
 }
 
 namespace detail {
@@ -83,7 +102,12 @@ RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const Prepared& p,
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
-    return detail::verdict_query(ray, detail::prepare(shape), mode);
+    if constexpr (detail::fp_env_guarded<Mode>)
+        return detail::in_default_fp_env_inline(
+            [](const Ray<T>& r, const Shape& s) RAYPROOF_INLINE_LAMBDA { return detail::verdict_query(r, detail::prepare(s), Mode{}); },
+            ray, shape);
+    else
+        return detail::verdict_query(ray, detail::prepare(shape), mode);
 }
 
 // Batch form: out[i] = verdict(rays[i], shape, mode), the shape prepared once.
@@ -93,8 +117,15 @@ template <class T, class Shape, class Mode>
 void verdict(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::span<Verdict> out) {
     if (out.size() != rays.size())
         detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
-    const auto prepared = detail::prepare(shape);
-    for (std::size_t i = 0; i < rays.size(); ++i) out[i] = detail::verdict_query(rays[i], prepared, mode);
+    static_cast<void>(mode);  // the tag's type is all the batch needs
+    const auto batch = [](std::span<const Ray<T>> r, const Shape& s, std::span<Verdict> o) noexcept {
+        const auto prepared = detail::prepare(s);
+        for (std::size_t i = 0; i < r.size(); ++i) o[i] = detail::verdict_query(r[i], prepared, Mode{});
+    };
+    if constexpr (detail::fp_env_guarded<Mode>)
+        if (!detail::fp_env_is_default()) [[unlikely]]
+            return detail::in_established_fp_env(batch, rays, shape, out);
+    batch(rays, shape, out);
 }
 
 // The same ray traversed backwards: the set { o + s·(-d) : s in [-t_max, -t_min] }.

@@ -9,8 +9,12 @@
 // A hit that is not Verdict::hit gives the zero vector. Unit vectors are made by
 // detail::unit_vector (scaled exactly by a power of two first), so a normal or a
 // direction with tiny, subnormal or huge components still gives a unit vector.
+// Each normal is computed in the default floating-point environment whatever the
+// caller's (detail/fp_env.hpp), for a hit of any mode: the scaling and the norm count on
+// round-to-nearest and gradual underflow. The Aabb's needs no arithmetic.
 #pragma once
 
+#include <rayproof/detail/fp_env.hpp>
 #include <rayproof/types.hpp>
 
 #include <cmath>
@@ -43,26 +47,38 @@ template <class T> [[nodiscard]] Vec3<T> normal(const Aabb<T>&, const Hit<T>& h,
     return n;
 }
 
-template <class T> [[nodiscard]] Vec3<T> normal(const Obb<T>& b, const Hit<T>& h, const Ray<T>&) noexcept {
-    if (h.verdict != Verdict::hit || h.face < 0 || h.face > 5) return Vec3<T>::Zero();
-    const Vec3<T> a = detail::unit_vector<T>(b.axes.col(h.face / 2));
-    return (h.face % 2) ? a : Vec3<T>(-a);
+template <class T> [[nodiscard]] Vec3<T> normal(const Obb<T>& b, const Hit<T>& h, const Ray<T>& r) noexcept {
+    return detail::in_default_fp_env(
+        [](const Obb<T>& box, const Hit<T>& hit, const Ray<T>&) noexcept -> Vec3<T> {
+            if (hit.verdict != Verdict::hit || hit.face < 0 || hit.face > 5) return Vec3<T>::Zero();
+            const Vec3<T> a = detail::unit_vector<T>(box.axes.col(hit.face / 2));
+            return (hit.face % 2) ? a : Vec3<T>(-a);
+        },
+        b, h, r);
 }
 
 template <class T> [[nodiscard]] Vec3<T> normal(const Sphere<T>& s, const Hit<T>& h, const Ray<T>& r) noexcept {
-    if (h.verdict != Verdict::hit) return Vec3<T>::Zero();
-    // p - c scaled exactly before it is normalized (unit_vector): dividing by v.norm()
-    // directly loses the unit length when |v| overflows (huge spheres) or falls into the
-    // subnormal range (tiny ones).
-    const Vec3<T> v = r.origin + h.t_enter * r.direction - s.center;
-    if (v.allFinite() && !v.isZero(0)) return detail::unit_vector<T>(v);
-    return detail::unit_vector<T>(-r.direction);
+    return detail::in_default_fp_env(
+        [](const Sphere<T>& sphere, const Hit<T>& hit, const Ray<T>& ray) noexcept -> Vec3<T> {
+            if (hit.verdict != Verdict::hit) return Vec3<T>::Zero();
+            // p - c scaled exactly before it is normalized (unit_vector): dividing by
+            // v.norm() directly loses the unit length when |v| overflows (huge spheres)
+            // or falls into the subnormal range (tiny ones).
+            const Vec3<T> v = ray.origin + hit.t_enter * ray.direction - sphere.center;
+            if (v.allFinite() && !v.isZero(0)) return detail::unit_vector<T>(v);
+            return detail::unit_vector<T>(-ray.direction);
+        },
+        s, h, r);
 }
 
 template <class T> [[nodiscard]] Vec3<T> normal(const Plane<T>& p, const Hit<T>& h, const Ray<T>& r) noexcept {
-    if (h.verdict != Verdict::hit) return Vec3<T>::Zero();
-    const Vec3<T> n = detail::unit_vector(p.normal);
-    return n.dot(r.direction) > 0 ? Vec3<T>(-n) : n;
+    return detail::in_default_fp_env(
+        [](const Plane<T>& plane, const Hit<T>& hit, const Ray<T>& ray) noexcept -> Vec3<T> {
+            if (hit.verdict != Verdict::hit) return Vec3<T>::Zero();
+            const Vec3<T> n = detail::unit_vector(plane.normal);
+            return n.dot(ray.direction) > 0 ? Vec3<T>(-n) : n;
+        },
+        p, h, r);
 }
 
 }  // namespace rayproof

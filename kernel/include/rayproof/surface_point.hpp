@@ -69,8 +69,12 @@
 // roundings and a fused product rounds once fewer; the point p is taken as computed,
 // fused or not; and a fused fl(p_i + dist·n_i) followed by the one-float step exceeds
 // p_i + dist·n_i itself, which is more than offset_origin needs.
+// Every bound above counts on round-to-nearest and gradual underflow: each function here
+// computes in the default floating-point environment whatever the caller's
+// (detail/fp_env.hpp), as the certified and conservative queries do.
 #pragma once
 
+#include <rayproof/detail/fp_env.hpp>
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/normal.hpp>
 #include <rayproof/types.hpp>
@@ -148,11 +152,13 @@ template <class T> [[nodiscard]] T residual_bound(T g, T S, int roundings) noexc
 
 }  // namespace detail
 
+namespace detail {
+
 // Aabb: p is the ray's point with the face's coordinate set to the face's lo or hi and
 // the other two clamped into the face's rectangle: p lies exactly on the face, x = p and
 // the error is 0 (exact operations only).
 template <class T>
-[[nodiscard]] SurfacePoint<T> surface_point(const Ray<T>& r, const Aabb<T>& b, const Hit<T>& h) noexcept {
+[[nodiscard]] SurfacePoint<T> surface_point_body(const Ray<T>& r, const Aabb<T>& b, const Hit<T>& h) noexcept {
     Vec3<T> p = detail::ray_point(r, h.t_enter);
     if (h.verdict != Verdict::hit || h.face < 0 || h.face > 5) return detail::no_surface_point(p);
     const int axis = h.face / 2;
@@ -171,7 +177,7 @@ template <class T>
 // plane is a·(x - c) = h, and the bound comes a posteriori from the residual
 // g = fl(a·fl(p - c) - h) (detail::residual_bound, gamma(7)).
 template <class T>
-[[nodiscard]] SurfacePoint<T> surface_point(const Ray<T>& r, const Obb<T>& b, const Hit<T>& h) noexcept {
+[[nodiscard]] SurfacePoint<T> surface_point_body(const Ray<T>& r, const Obb<T>& b, const Hit<T>& h) noexcept {
     const Vec3<T> p = detail::ray_point(r, h.t_enter);
     if (h.verdict != Verdict::hit || h.face < 0 || h.face > 5) return detail::no_surface_point(p);
     const int axis = h.face / 2;
@@ -191,7 +197,7 @@ template <class T>
 // Plane: p is the ray's point; the bound comes a posteriori from the residual
 // g = fl(n·p - offset) (detail::residual_bound, gamma(6)).
 template <class T>
-[[nodiscard]] SurfacePoint<T> surface_point(const Ray<T>& r, const Plane<T>& pl, const Hit<T>& h) noexcept {
+[[nodiscard]] SurfacePoint<T> surface_point_body(const Ray<T>& r, const Plane<T>& pl, const Hit<T>& h) noexcept {
     const Vec3<T> p = detail::ray_point(r, h.t_enter);
     if (h.verdict != Verdict::hit) return detail::no_surface_point(p);
     const Vec3<T>& a = pl.normal;
@@ -219,7 +225,7 @@ template <class T>
 // centre: p = c, error 0. n is vs/l made unit (detail::unit_vector, normal.hpp), not w,
 // which can be subnormal for a tiny sphere.
 template <class T>
-[[nodiscard]] SurfacePoint<T> surface_point(const Ray<T>& r, const Sphere<T>& s, const Hit<T>& h) noexcept {
+[[nodiscard]] SurfacePoint<T> surface_point_body(const Ray<T>& r, const Sphere<T>& s, const Hit<T>& h) noexcept {
     const Vec3<T> p0 = detail::ray_point(r, h.t_enter);
     if (h.verdict != Verdict::hit) return detail::no_surface_point(p0);
     SurfacePoint<T> sp;
@@ -258,7 +264,7 @@ template <class T>
 // The distance to move p along n so that the whole error box lies behind: Σ|n_i|·error_i
 // times (1 + 64u), and at least the floor 2^p·eta (header comment); +inf without a
 // surface point.
-template <class T> [[nodiscard]] T spawn_offset(const SurfacePoint<T>& sp) noexcept {
+template <class T> [[nodiscard]] T spawn_offset_body(const SurfacePoint<T>& sp) noexcept {
     if (sp.n.isZero()) return std::numeric_limits<T>::infinity();
     constexpr T floor = detail::eta_v<T> * (T(2) / std::numeric_limits<T>::epsilon());  // 2^p·eta
     const T sum = (std::abs(sp.n[0]) * sp.error[0] + std::abs(sp.n[1]) * sp.error[1]) + std::abs(sp.n[2]) * sp.error[2];
@@ -268,7 +274,7 @@ template <class T> [[nodiscard]] T spawn_offset(const SurfacePoint<T>& sp) noexc
 // p moved by at least (1 - u)·dist along n: q_i = fl(p_i + fl(dist·n_i)), then one float
 // further in the direction of n_i (coordinates with n_i == 0 stay), so (q - p)_i·n_i >
 // (1 - u)·dist·n_i² (header comment).
-template <class T> [[nodiscard]] Vec3<T> offset_origin(const Vec3<T>& p, const Vec3<T>& n, T dist) noexcept {
+template <class T> [[nodiscard]] Vec3<T> offset_origin_body(const Vec3<T>& p, const Vec3<T>& n, T dist) noexcept {
     Vec3<T> q;
     for (int i = 0; i < 3; ++i) {
         q[i] = p[i] + dist * n[i];
@@ -280,10 +286,39 @@ template <class T> [[nodiscard]] Vec3<T> offset_origin(const Vec3<T>& p, const V
     return q;
 }
 
+
+}  // namespace detail
+
+// ---- The public forms: each body above, in the default floating-point environment.
+
+template <class T, class Shape>
+    requires is_shape_v<Shape, T>
+[[nodiscard]] SurfacePoint<T> surface_point(const Ray<T>& r, const Shape& s, const Hit<T>& h) noexcept {
+    return detail::in_default_fp_env(
+        [](const Ray<T>& ray, const Shape& shape, const Hit<T>& hit) noexcept {
+            return detail::surface_point_body(ray, shape, hit);
+        },
+        r, s, h);
+}
+
+template <class T> [[nodiscard]] T spawn_offset(const SurfacePoint<T>& sp) noexcept {
+    return detail::in_default_fp_env([](const SurfacePoint<T>& p) noexcept { return detail::spawn_offset_body(p); }, sp);
+}
+
+template <class T> [[nodiscard]] Vec3<T> offset_origin(const Vec3<T>& p, const Vec3<T>& n, T dist) noexcept {
+    return detail::in_default_fp_env(
+        [](const Vec3<T>& point, const Vec3<T>& dir, const T& d) noexcept { return detail::offset_origin_body(point, dir, d); },
+        p, n, dist);
+}
+
 // The origin of a secondary ray leaving sp: side > 0 on the side n faces, side < 0 on
 // the other (header comment for what is promised). Not finite without a surface point.
 template <class T> [[nodiscard]] Vec3<T> spawn_origin(const SurfacePoint<T>& sp, int side) noexcept {
-    return offset_origin(sp.p, side > 0 ? Vec3<T>(sp.n) : Vec3<T>(-sp.n), spawn_offset(sp));
+    return detail::in_default_fp_env(
+        [](const SurfacePoint<T>& p, const int& sd) noexcept {
+            return detail::offset_origin_body(p.p, sd > 0 ? Vec3<T>(p.n) : Vec3<T>(-p.n), detail::spawn_offset_body(p));
+        },
+        sp, side);
 }
 
 }  // namespace rayproof
