@@ -30,9 +30,10 @@ done
 # why the kernel's answers hold anyway). Only the test programs are built (by name: the
 # executables under tests/unit, oracle, props, exact_stage and regressions, not the
 # measurement tools), in build/gcc-contract and build/clang-contract.
-# RAYPROOF_CONTRACT_STAGE=0 skips it.
+# RAYPROOF_CONTRACT_STAGE=0 skips it; RAYPROOF_CONTRACT_COMPILERS="g++" (or "clang++")
+# runs it with one compiler (default: both).
 if [ "${RAYPROOF_CONTRACT_STAGE:-1}" != 0 ]; then
-  for cc in g++ clang++; do
+  for cc in ${RAYPROOF_CONTRACT_COMPILERS:-g++ clang++}; do
     name=$([ "$cc" = g++ ] && echo gcc || echo clang)-contract
     echo "== $name: configure and build (-O3 -march=native -ffp-contract=fast)"
     start=$(date +%s)

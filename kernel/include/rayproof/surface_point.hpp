@@ -67,13 +67,15 @@
 // just left); the certified mode needs none.
 // Contraction (detail/eft.hpp): class C1 throughout. Each bound counts separate
 // roundings and a fused product rounds once fewer; the point p is taken as computed,
-// fused or not; and a fused fl(p_i + dist·n_i) followed by the one-float step exceeds
-// p_i + dist·n_i itself, which is more than offset_origin needs.
+// fused or not; offset_origin's product is rounded() (class C3), so that q_i exceeds
+// p_i + fl(dist·n_i) as it promises (fused, it would exceed p_i + dist·n_i, which the
+// proof above also accepts, but not always the rounded sum).
 // Every bound above counts on round-to-nearest and gradual underflow: each function here
 // computes in the default floating-point environment whatever the caller's
 // (detail/fp_env.hpp), as the certified and conservative queries do.
 #pragma once
 
+#include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/fp_env.hpp>
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/normal.hpp>
@@ -277,7 +279,7 @@ template <class T> [[nodiscard]] T spawn_offset_body(const SurfacePoint<T>& sp) 
 template <class T> [[nodiscard]] Vec3<T> offset_origin_body(const Vec3<T>& p, const Vec3<T>& n, T dist) noexcept {
     Vec3<T> q;
     for (int i = 0; i < 3; ++i) {
-        q[i] = p[i] + dist * n[i];
+        q[i] = p[i] + detail::rounded(dist * n[i]);
         if (n[i] > 0)
             q[i] = detail::step_up(q[i]);
         else if (n[i] < 0)
