@@ -122,18 +122,18 @@ for rel in sys.stdin.buffer.read().decode().split("\0"):
     shutil.copyfile(a, b)
     shutil.copymode(a, b)
     copied += 1
-print(f"== mutants: {copied} file(s) copied to build/mutants/src")
+print(f"== mutants: {copied} file(s) copied to {dst}")
 ' "$ROOT" "$src"
 
 if [ $suites -eq 1 ] && [ ! -f "$suites_bld/build.ninja" ]; then
-  echo "== mutants: configuring build/mutants/src/build/suites (g++)"
+  echo "== mutants: configuring $suites_bld (g++)"
   cmake -S "$src" -B "$suites_bld" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=g++ \
     -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" -DRAYPROOF_WERROR=OFF -DRAYPROOF_ORACLE=ON \
     -DRAYPROOF_RENDER=OFF -DRAYPROOF_BENCH=OFF -DRAYPROOF_PYTHON=OFF -DRAYPROOF_FUZZ=OFF \
     >"$work/logs/suites.configure.log" 2>&1 || { cat "$work/logs/suites.configure.log"; exit 1; }
 fi
 if [ $fuzz -eq 1 ] && [ ! -f "$fuzz_bld/build.ninja" ]; then
-  echo "== mutants: configuring build/mutants/src/build/fuzz (clang, libFuzzer, sanitizers)"
+  echo "== mutants: configuring $fuzz_bld (clang, libFuzzer, sanitizers)"
   cmake -S "$src" -B "$fuzz_bld" -G Ninja -DCMAKE_CXX_COMPILER="${RAYPROOF_FUZZ_CXX:-clang++}" \
     -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" \
     -DCMAKE_CXX_FLAGS="$SANITIZE" -DCMAKE_EXE_LINKER_FLAGS="$SANITIZE" \
@@ -263,7 +263,7 @@ for p in "${PATCHES[@]}"; do
     # shellcheck disable=SC2086
     if ! cmake --build "$suites_bld" --target $targets -j "${RAYPROOF_JOBS:-2}" >"$log.suites.build.log" 2>&1; then
       grep -E "error|FAILED" "$log.suites.build.log" | head -20
-      echo "   suites build FAILED (log: build/mutants/logs/$name.suites.build.log)"; exit 1
+      echo "   suites build FAILED (log: $log.suites.build.log)"; exit 1
     fi
     echo "   suites built in $(( $(date +%s) - t0 )) s"
     while read -r bin filter; do
@@ -275,7 +275,7 @@ for p in "${PATCHES[@]}"; do
     t0=$(date +%s)
     if ! cmake --build "$fuzz_bld" --target "$target" -j "${RAYPROOF_JOBS:-2}" >"$log.fuzz.build.log" 2>&1; then
       grep -E "error|FAILED" "$log.fuzz.build.log" | head -20
-      echo "   fuzz build FAILED (log: build/mutants/logs/$name.fuzz.build.log)"; exit 1
+      echo "   fuzz build FAILED (log: $log.fuzz.build.log)"; exit 1
     fi
     echo "   fuzz target built in $(( $(date +%s) - t0 )) s"
     cp "$fuzz_bld/fuzz/$target" "$run/fuzz/$target"
