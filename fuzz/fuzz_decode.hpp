@@ -29,6 +29,15 @@
 //                                        (a corner minus the origin aims at the corner)
 //                   7 fraction           (8-bit int)/(8-bit int) times 2^(n-16): rounded,
 //                                        inexact values (1/3, -5/7, ...)
+//   constructs    (Plane and Sphere, when header bits 5-7 are all set) three bytes,
+//                 what, amount and extra (and extra2 for the Plane), read after the
+//                 fields; the construction is
+//                 applied after the patches (Decoder::construct): a direction parallel to
+//                 the plane but for a relative residual ε (n·d a cancellation), the case
+//                 scaled to the overflow edge, the origin at distance r(1 + δ) from the
+//                 centre or the line at that distance (near-tangent), a limit at the
+//                 crossing or a root times (1 + δ), a limit whose product with the
+//                 computed n·d overflows by a relative δ; δ, ε = ±2^-k from the bytes
 //   patches       while bytes remain (at most 64 times): a field index byte, then one
 //                 field as above that overwrites it (copies may then read any field, so
 //                 any field can be equated to any other, in either direction)
@@ -42,6 +51,7 @@
 #include <rayproof/rayproof.hpp>  // rayproof::detail::step_up / step_down
 #include <rayproof/types.hpp>
 
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -66,6 +76,7 @@ template <class T, class Shape> struct Input {
 inline constexpr unsigned kDoubleBit = 1u;
 inline constexpr unsigned kTRangeShift = 1u;
 inline constexpr unsigned kAxesShift = 3u;
+inline constexpr unsigned kConstructShift = 5u;  // bits 5-7 all set: a construction (Plane, Sphere)
 
 // Field classes.
 enum Class : unsigned { small_int = 0, int16 = 1, special = 2, copy = 3, raw = 4, dyadic = 5, derived = 6, fraction = 7 };
@@ -192,9 +203,21 @@ public:
             }
             done_ = k + 1;
         }
+        constexpr bool constructible = std::is_same_v<Shape, Plane<T>> || std::is_same_v<Shape, Sphere<T>>;
+        const bool constructed = constructible && (header >> kConstructShift) == 7u;
+        unsigned what = 0, amount = 0, extra = 0, extra2 = 0;
+        if (constructed) {
+            what = p_.ConsumeIntegral<std::uint8_t>();
+            amount = p_.ConsumeIntegral<std::uint8_t>();
+            extra = p_.ConsumeIntegral<std::uint8_t>();
+            if (std::is_same_v<Shape, Plane<T>>) extra2 = p_.ConsumeIntegral<std::uint8_t>();
+        }
         for (int i = 0; i < kMaxPatches && p_.remaining_bytes() > 0; ++i) {
             const int dst = int(p_.ConsumeIntegral<std::uint8_t>() % unsigned(kFields));
             *f[dst] = value(f, kFields);
+        }
+        if constexpr (constructible) {
+            if (constructed) construct(in, what, amount, extra, extra2);
         }
         return in;
     }
@@ -279,6 +302,131 @@ private:
             for (int c = 0; c < 3; ++c) a(perms[pi][c], c) = value(f, kAxesFirst);
         }
         for (int i = 0; i < 9; ++i) *f[kAxesFirst + i] = a.data()[i];
+    }
+
+    // Constructions: cases random bytes almost never build, computed in long double and
+    // rounded to T (so each lands within rounding of its aim, the hard region). δ =
+    // ±2^-k, k = (amount >> 1) mod 72, 0 for k = 71: from a relative 1/2 down to below
+    // the rounding of T.
+    using LD = long double;
+    static LD relative(unsigned amount) {
+        const int k = int((amount >> 1) % 72u);
+        if (k == 71) return 0;
+        const LD d = std::ldexp(LD(1), -k);
+        return (amount & 1u) ? -d : d;
+    }
+    static LD dot(const Vec3<T>& a, const Vec3<T>& b) {
+        return LD(a[0]) * LD(b[0]) + LD(a[1]) * LD(b[1]) + LD(a[2]) * LD(b[2]);
+    }
+    static bool all_finite(const Input<T, Shape>& in) {
+        return in.ray.origin.allFinite() && in.ray.direction.allFinite() && std::isfinite(in.ray.t_min) &&
+               std::isfinite(in.ray.t_max) && shape_finite(in.shape);
+    }
+    static bool shape_finite(const Plane<T>& p) { return p.normal.allFinite() && std::isfinite(p.offset); }
+    static bool shape_finite(const Sphere<T>& s) { return s.center.allFinite() && std::isfinite(s.radius); }
+    template <class S> static bool shape_finite(const S&) { return true; }
+    // A limit set to x (bit 3 of what: t_max, else t_min), the other one opened when the
+    // range would be empty.
+    static void set_limit(Ray<T>& r, unsigned what, LD x) {
+        constexpr T inf = std::numeric_limits<T>::infinity();
+        const T v = T(x);
+        if (!std::isfinite(v)) return;
+        if (what & 8u) {
+            r.t_max = v;
+            if (r.t_min > v) r.t_min = -inf;
+        } else {
+            r.t_min = v;
+            if (r.t_max < v) r.t_max = inf;
+        }
+    }
+    // Plane, what: bit 0 the direction made parallel to the plane but for a relative
+    // residual ε = relative(extra) (d minus (1 - ε) times its component along n, so n·d
+    // is ε times the old n·d, a cancellation of much larger terms: near ε = 2^-50 the
+    // computed n·d is just above its error bound and may be off by half its value); bit
+    // 1 the offset and the origin scaled by a power of two so that the largest term of
+    // N = offset - n·o lies within a factor 2^(1 + (what >> 6)) of the overflow
+    // threshold; bit 2 a limit at the crossing t = N/D times (1 + δ), δ =
+    // relative(amount), bit 3 choosing which limit; bit 4 (instead of bit 2) that limit
+    // set to ±2^emax/D~·(1 + δ) (sign: bit 5), D~ = n·d computed in double as the
+    // kernel's filters compute it, so that limit·D~ overflows by a relative δ or just
+    // fails to, and the offset set so that the crossing lies at limit·(1 +
+    // relative(extra2)): the overflow of limit·n·d, on either side of the crossing.
+    static void construct(Input<T, Plane<T>>& in, unsigned what, unsigned amount, unsigned extra, unsigned extra2) {
+        if (!all_finite(in)) return;
+        Plane<T>& p = in.shape;
+        Ray<T>& r = in.ray;
+        const LD nn = dot(p.normal, p.normal);
+        if (!(nn > 0) || !std::isfinite(nn)) return;
+        if (what & 1u) {
+            const LD k = dot(p.normal, r.direction) / nn * (1 - relative(extra));
+            for (int j = 0; j < 3; ++j) r.direction[j] = T(LD(r.direction[j]) - k * LD(p.normal[j]));
+        }
+        if (what & 2u) {
+            LD m = std::fabs(LD(p.offset));
+            for (int j = 0; j < 3; ++j) m = std::max(m, std::fabs(LD(p.normal[j]) * LD(r.origin[j])));
+            if (m > 0 && std::isfinite(m)) {
+                const int e = std::numeric_limits<T>::max_exponent - 1 - int(what >> 6) - std::ilogb(m);
+                p.offset = std::ldexp(p.offset, e);
+                for (int j = 0; j < 3; ++j) r.origin[j] = std::ldexp(r.origin[j], e);
+            }
+        }
+        if (what & 16u) {
+            double Dd = 0;  // ((n_0 d_0 + n_1 d_1) + n_2 d_2) in double
+            for (int j = 0; j < 3; ++j) Dd = Dd + double(p.normal[j]) * double(r.direction[j]);
+            const LD D = dot(p.normal, r.direction);
+            if (Dd != 0 && std::isfinite(Dd) && D != 0) {
+                const LD edge = std::ldexp(LD(1), std::numeric_limits<double>::max_exponent) / std::fabs(LD(Dd));
+                const LD lim = ((what & 32u) ? -edge : edge) * (1 + relative(amount));
+                set_limit(r, what, lim);
+                p.offset = T(dot(p.normal, r.origin) + LD(what & 8u ? r.t_max : r.t_min) * D * (1 + relative(extra2)));
+            }
+        } else if (what & 4u) {
+            const LD D = dot(p.normal, r.direction), N = LD(p.offset) - dot(p.normal, r.origin);
+            if (D != 0) set_limit(r, what, N / D * (1 + relative(amount)));
+        }
+    }
+    // Sphere, what: bit 0 the origin moved across the line so that the line passes at
+    // distance r(1 + δ) from the centre (near-tangent); bit 1 the origin moved along
+    // its ray from the centre to distance r(1 + δ) (an end of the range near the
+    // surface), δ = relative(amount); bit 2 a limit at a root of |o + t·d - c| = r (bit
+    // 4: the larger one) times (1 + relative(extra)), bit 3 choosing which limit.
+    static void construct(Input<T, Sphere<T>>& in, unsigned what, unsigned amount, unsigned extra, unsigned) {
+        if (!all_finite(in)) return;
+        Sphere<T>& s = in.shape;
+        Ray<T>& r = in.ray;
+        const LD rad = LD(s.radius) * (1 + relative(amount)), dd = dot(r.direction, r.direction);
+        if (!(dd > 0) || !std::isfinite(dd) || !(s.radius > 0)) return;
+        auto w = [&] {
+            Eigen::Matrix<LD, 3, 1> v;
+            for (int j = 0; j < 3; ++j) v[j] = LD(r.origin[j]) - LD(s.center[j]);
+            return v;
+        };
+        if (what & 1u) {
+            const Eigen::Matrix<LD, 3, 1> v = w();
+            Eigen::Matrix<LD, 3, 1> d;
+            for (int j = 0; j < 3; ++j) d[j] = LD(r.direction[j]);
+            const LD along = v.dot(d) / dd;
+            const Eigen::Matrix<LD, 3, 1> perp = v - along * d;
+            const LD pn = perp.norm();
+            if (pn > 0 && std::isfinite(pn))
+                for (int j = 0; j < 3; ++j) r.origin[j] = T(LD(s.center[j]) + along * d[j] + perp[j] * (rad / pn));
+        }
+        if (what & 2u) {
+            const Eigen::Matrix<LD, 3, 1> v = w();
+            const LD vn = v.norm();
+            if (vn > 0 && std::isfinite(vn))
+                for (int j = 0; j < 3; ++j) r.origin[j] = T(LD(s.center[j]) + v[j] * (rad / vn));
+        }
+        if (what & 4u) {
+            const Eigen::Matrix<LD, 3, 1> v = w();
+            LD b = 0;
+            for (int j = 0; j < 3; ++j) b += v[j] * LD(r.direction[j]);
+            const LD disc = b * b - dd * (v.squaredNorm() - LD(s.radius) * LD(s.radius));
+            if (disc >= 0 && std::isfinite(disc)) {
+                const LD t = ((what & 16u) ? -b + std::sqrt(disc) : -b - std::sqrt(disc)) / dd;
+                set_limit(r, what, t * (1 + relative(extra)));
+            }
+        }
     }
 
     FuzzedDataProvider p_;

@@ -1,163 +1,304 @@
 #!/usr/bin/env bash
-# fuzz/mutants.sh — does the fuzzing catch a broken kernel? Each mutation below is a
-# plausible one-line bug (an error bound too small, a closed boundary made open, a
-# dropped correction, a wrong exact sign); for each one this script copies the source
-# tree to build/fuzz/mutants/src, applies the mutation there (never to the checkout),
-# rebuilds the one target that should notice it (same sanitizer build as fuzz/ci.sh),
-# and fuzzes it for at most --seconds. A mutant the fuzzer does not report within that
-# time survived: the script prints one line per mutation (found or not, the seconds
-# and executions it took, what was reported) and exits 1 if any survived.
+# fuzz/mutants.sh — do the tests and the fuzzing catch a broken kernel? Each mutant is a
+# patch, fuzz/mutants/<name>.patch: a plausible bug (an error bound dropped or shrunk, a
+# closed boundary made open, a dropped correction, a wrong exact sign) whose header says
+# what it breaks, which fuzz target judges it and which shapes' code it is in:
 #
-#   fuzz/mutants.sh [--seconds S] [--empty] [--only NAME] [--check]
-#     --seconds S   time limit per mutant (default 60)
-#     --empty       start from an empty corpus instead of the committed fuzz/corpus/<target>/
-#     --only NAME   run one mutation (see the table below)
-#     --check       build and fuzz nothing: check that every mutation's pattern matches
-#                   exactly one line of its file in the checkout and changes it, and that
-#                   its target is a fuzz target; exit 1 when one does not (a CTest test
-#                   runs this, so a kernel edit that moves a mutated line fails it)
+#   mutant: <name>
+#   target: <fuzz target of fuzz/targets.txt>
+#   shapes: <aabb|obb|plane|sphere ...>
+#   breaks: <one line>
+#   (blank line, then the diff, as `git diff` writes it)
+#
+# The script copies the tracked files of the checkout to build/mutants/src (once; later
+# runs copy only the files that changed, so the builds there stay incremental), applies
+# each patch there with `git apply` (never to the checkout; a patch that no longer
+# applies ends the script with status 2) and judges the mutant two ways:
+#   suites  the CTest unit, oracle and property suites of its shapes, at their default
+#           size (the RAYPROOF_RC_DEFAULT of tests/props/CMakeLists.txt), built with g++
+#           -O2 in build/mutants/src/build/suites: for each shape, ray_<shape>_test,
+#           ray_<shape>_oracle_test, certified_exact_stage_test (that shape's tests) and
+#           ray_<shape>_props, in that order, up to the first failing test;
+#   fuzz    the fuzz target from an EMPTY corpus (same sanitizer build as fuzz/ci.sh, in
+#           build/mutants/src/build/fuzz) for at most --seconds, run beside the suites.
+# Only the shapes' targets are rebuilt. One line per mutant (which test failed or
+# "survived"; fuzz found after how many seconds and executions, or survived), then the
+# kill matrix as a Markdown table; exit 1 when a mutant survived both judgements.
+#
+#   fuzz/mutants.sh [--seconds S] [--only NAME[,NAME...]] [--no-suites] [--no-fuzz] [--check]
+#     --seconds S   fuzzing limit per mutant (default 300)
+#     --only NAMES  judge these mutants only
+#     --no-suites, --no-fuzz   skip one judgement
+#     --check       build nothing: check that every patch has its header (a fuzz target,
+#                   known shapes) and applies to the checkout (`git apply --check`);
+#                   exit 1 when one does not (the CTest test fuzz_mutations_apply)
+#   RAYPROOF_MUTANTS_WORK  the work directory (default build/mutants; two runs at once,
+#                          say one per judgement, need one each)
+#   RAYPROOF_JOBS          build jobs (default 2)
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
-seconds=60 empty=0 only="" check=0
+seconds=300 only="" check=0 suites=1 fuzz=1
 while [ $# -gt 0 ]; do
   case "$1" in
     --check) check=1; shift ;;
     --seconds) seconds="$2"; shift 2 ;;
-    --empty) empty=1; shift ;;
-    --only) only="$2"; shift 2 ;;
-    -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    --only) only=",$2,"; shift 2 ;;
+    --no-suites) suites=0; shift ;;
+    --no-fuzz) fuzz=0; shift ;;
+    -h|--help) sed -n '2,37p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "unknown argument: $1 (see --help)" >&2; exit 2 ;;
   esac
 done
 
-# name | target | file | perl substitution (must match exactly once) | what it breaks
-MUTATIONS=(
-  "aabb-no-correction|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/tc = tt \+ rounded\(/tc = m + splat(0.0) * rounded(/|certified Aabb t not faithfully rounded for double (the straight-line path's correction dropped)"
-  "aabb-filter-no-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/const D2 bm = abs\(L.m\) \* splat\(K\) \+ splat\(eta\);/const D2 bm = splat(0.0);/|certified Aabb filter without its error bound: every close comparison decided by floating point"
-  "aabb-conservative-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/constexpr double K = 2 \* gamma<double>\(3\);/constexpr double K = 0;/|conservative Aabb enclosure without its error bound"
-  "aabb-verdict-no-bound|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/const D2 h = max\(L.m_hi, L.limit\), g = max\(L.m_lo, L.limit\);/const D2 h = max(L.m, L.limit), g = max(L.m, L.limit);/|certified Aabb straight-line verdict (the verdict query's and the full query's) decided on the computed values, without their bounds"
-  "aabb-common-no-probe|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/L.usable = \(probe == splat\(0.0\)\) & /L.usable = /|certified Aabb straight-line paths answer for infinite or NaN input (their finiteness probe dropped)"
-  "aabb-float-no-direction-probe|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/dterms = from_float \? L.d01 \+ L.d22 :/dterms = from_float ? splat(0.0) :/|certified Aabb straight-line paths answer for a float ray with an infinite direction component (the directions left out of the finiteness probe)"
-  "aabb-double-no-direction-probe|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/: rounded\(L.d01 \* splat\(4.0\)\) \+ rounded\(L.d22 \* splat\(4.0\)\);/: splat(0.0);/|certified Aabb straight-line paths answer for a double ray with a direction component of magnitude 2^1022 or more, whose subnormal reciprocal the bound does not cover"
-  "aabb-correction-any-direction|ray_aabb_fuzz|kernel/include/rayproof/ray_aabb.hpp|s/ & \(ad >= splat\(0x1p-500\)\) & \(ad <= splat\(0x1p500\)\);/;/|certified Aabb double straight-line path corrects a winner whose direction is outside [2^-500, 2^500], where its products can underflow"
-  "range-check-finite-only|ray_aabb_fuzz|kernel/include/rayproof/detail/lanes.hpp|s/return ordered \+ swap\(ordered\) <= splat\(0.0\);/return ordered - ordered <= splat(0.0);/|the straight-line paths' range check accepts any finite range, t_min > t_max included"
-  "aabb-flat-box-invalid|ray_aabb_fuzz|kernel/include/rayproof/detail/validate.hpp|s/\(lo\[0\] <= hi\[0\]\)/(lo[0] < hi[0])/|a flat Aabb (lo_0 == hi_0) reported invalid"
-  "obb-open-parallel-slab|ray_obb_fuzz|kernel/include/rayproof/ray_obb.hpp|s/return above\.sign\(\) >= 0 && below\.sign\(\) >= 0;/return above.sign() > 0 && below.sign() > 0;/|Obb: a ray parallel to a slab and exactly on its face plane taken as outside (exact stage)"
-  "obb-common-no-bound|ray_obb_fuzz|kernel/include/rayproof/ray_obb.hpp|s/const D2 bound = \(e \+ e\) \+ splat\(eta\);/const D2 bound = (e + e) * splat(0.0);/|certified Obb: the straight-line path's slab values without their error bounds"
-  "plane-in-plane-miss|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/if \(x\.in_plane\(\)\) \{/if (false \&\& x.in_plane()) {/|Plane: a ray lying in the plane reported as a miss"
-  "sphere-distance-no-bound|ray_sphere_fuzz|kernel/include/rayproof/detail/ray_sphere_straight_line.hpp|s/if \(n - rad > L.threshold\) return h;/if (n - rad > 0) return h;/|certified Sphere straight-line path: a miss taken from the estimated distance of the line, without its error bound"
-  "sphere-root-no-proof|ray_sphere_fuzz|kernel/include/rayproof/detail/ray_sphere_straight_line.hpp|s/const double thr = 2 \* \(qx\.err \+/const double thr = 0 * (qx.err +/|certified Sphere straight-line path: the signs of q next to a root taken from floating point, without their bound"
-  "plane-pin-no-bound|ray_plane_fuzz|kernel/include/rayproof/detail/compensated.hpp|s/\(2 \* e \+ 0x1p-1020\)/(0 * e + 0x1p-1020)/|certified Plane: the straight-line path's proof that t lies next to its candidate without the residual's error bound"
-  "sphere-verdict-no-margin|ray_sphere_fuzz|kernel/include/rayproof/detail/ray_sphere_verdict.hpp|s/line_in = -D > E;/line_in = -D > 0;/|certified Sphere verdict filter taking the line inside the ball without the certificate's margin"
-  "sphere-verdict-ends-no-bound|ray_sphere_fuzz|kernel/include/rayproof/detail/ray_sphere_verdict.hpp|s/const M2 inside = v < -tq,/const M2 inside = v < splat(0.0) * tq,/|certified Sphere verdict filter taking an end of the range as inside the ball from the sign of q there, without its bound"
-  "plane-verdict-no-bound|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/E = Q \+ Q;/E = Q * splat(0.0);/|certified Plane verdict filter deciding t against t_min and t_max without its error bound"
-  "plane-verdict-overflow-holds|ray_plane_fuzz|kernel/include/rayproof/ray_plane.hpp|s/\(\(X >= E\) & finite\)/(X >= E)/|certified Plane verdict filter taking an overflowed limit·D~ (X~ = +inf for a finite limit) as proof that t lies inside the range"
-  "sphere-tangent-miss|ray_sphere_fuzz|kernel/include/rayproof/detail/ray_sphere_general.hpp|s/hit = sd >= 0;/hit = sd > 0;/|Sphere: an exactly tangent ray (zero discriminant) reported as a miss"
-  "exact-two-sum-sign|ray_obb_fuzz|kernel/include/rayproof/detail/eft.hpp|s/return \{s, \(a - av\) \+ \(b - bv\)\};/return {s, (a - av) - (b - bv)};/|exact arithmetic: two_sum's error term with a wrong sign"
-)
+MUTANTS_DIR="$ROOT/fuzz/mutants"
+mapfile -t PATCHES < <(find "$MUTANTS_DIR" -maxdepth 1 -name '*.patch' | sort)
+if [ -n "$only" ]; then  # in the order given
+  PATCHES=()
+  for n in ${only//,/ }; do
+    [ -f "$MUTANTS_DIR/$n.patch" ] || { echo "no mutant named $n" >&2; exit 2; }
+    PATCHES+=("$MUTANTS_DIR/$n.patch")
+  done
+fi
+[ ${#PATCHES[@]} -gt 0 ] || { echo "no patches in fuzz/mutants/" >&2; exit 2; }
+# header FIELD PATCH: the value of a header line ("field: value") before the diff.
+header() { sed -n "/^diff --git/q; s/^$1: *//p" "$2" | head -1; }
+selected() { [ -z "$only" ] || [[ "$only" == *",$1,"* ]]; }
 
-# --check: every pattern against the checkout, nothing built.
+# --check: every patch's header, and `git apply --check` against the checkout.
 if [ $check -eq 1 ]; then
   bad=0
-  for m in "${MUTATIONS[@]}"; do
-    IFS='|' read -r name target file subst what <<<"$m"
-    [ -z "$only" ] || [ "$only" = "$name" ] || continue
-    if [ ! -f "$ROOT/$file" ]; then
-      echo "mutation $name: no file $file" >&2; bad=1; continue
-    fi
+  for p in "${PATCHES[@]}"; do
+    name=$(basename "$p" .patch)
+    selected "$name" || continue
+    target=$(header target "$p") shapes=$(header shapes "$p")
+    [ "$(header mutant "$p")" = "$name" ] || { echo "mutant $name: its header does not name it" >&2; bad=1; }
+    [ -n "$(header breaks "$p")" ] || { echo "mutant $name: no 'breaks:' line" >&2; bad=1; }
     case " ${FUZZ_TARGETS_ALL[*]} " in
       *" $target "*) ;;
-      *) echo "mutation $name: $target is not a fuzz target" >&2; bad=1 ;;
+      *) echo "mutant $name: '$target' is not a fuzz target" >&2; bad=1 ;;
     esac
-    n=$(perl -ne "\$n++ if $subst; END { print \$n+0 }" "$ROOT/$file")
-    if [ "$n" != 1 ]; then
-      echo "mutation $name: the pattern matches $n lines of $file (expected 1)" >&2; bad=1; continue
+    [ -n "$shapes" ] || { echo "mutant $name: no shapes" >&2; bad=1; }
+    for s in $shapes; do
+      case "$s" in aabb|obb|plane|sphere) ;; *) echo "mutant $name: unknown shape '$s'" >&2; bad=1 ;; esac
+    done
+    if ! (cd "$ROOT" && git apply --check "$p") 2>"${TMPDIR:-/tmp}/mutants-check.$$"; then
+      echo "mutant $name: the patch does not apply: $(head -3 "${TMPDIR:-/tmp}/mutants-check.$$")" >&2; bad=1
+    else
+      echo "mutant $name: applies"
     fi
-    if perl -pe "$subst" "$ROOT/$file" | cmp -s - "$ROOT/$file"; then
-      echo "mutation $name: the substitution leaves $file unchanged" >&2; bad=1; continue
-    fi
-    echo "mutation $name: applies once to $file"
+    rm -f "${TMPDIR:-/tmp}/mutants-check.$$"
   done
   exit $bad
 fi
 
-work="$FUZZ_BUILD/mutants"
-src="$work/src"
-bld="$work/build"
-rm -rf "$src"
-mkdir -p "$src" "$bld"
-# The tracked files of the checkout as they are now (uncommitted edits included).
-(cd "$ROOT" && git ls-files -z | tar --null -T - -cf -) | tar -xf - -C "$src"
-
-echo "== mutants: configuring build/fuzz/mutants/build"
-cmake -S "$src" -B "$bld" -G Ninja -DCMAKE_CXX_COMPILER="${RAYPROOF_FUZZ_CXX:-clang++}" \
-  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" \
-  -DCMAKE_CXX_FLAGS="$SANITIZE" -DCMAKE_EXE_LINKER_FLAGS="$SANITIZE" \
-  -DRAYPROOF_FUZZ=ON -DRAYPROOF_ORACLE=ON -DRAYPROOF_RENDER=OFF -DRAYPROOF_BENCH=OFF \
-  -DBUILD_TESTING=OFF -DRAYPROOF_WERROR=OFF >"$work/configure.log" 2>&1 || { cat "$work/configure.log"; exit 1; }
-
-# Every mutated file as in the checkout (undoes any mutation in the copy).
-restore_all() {
-  local m f
-  for m in "${MUTATIONS[@]}"; do
-    f=$(echo "$m" | cut -d'|' -f3)
-    cp "$ROOT/$f" "$src/$f"
-  done
-}
-
-results=()
-survived=0 ran=0
-for m in "${MUTATIONS[@]}"; do
-  IFS='|' read -r name target file subst what <<<"$m"
-  [ -z "$only" ] || [ "$only" = "$name" ] || continue
-  ran=$((ran + 1))
-  # Every other mutation undone, then this one applied.
-  restore_all
-  n=$(perl -ne "\$n++ if $subst; END { print \$n+0 }" "$src/$file")
-  if [ "$n" != 1 ]; then
-    echo "mutation $name: the pattern matches $n lines of $file (expected 1); update the table" >&2
+# Every patch must apply before anything is built.
+for p in "${PATCHES[@]}"; do
+  if ! (cd "$ROOT" && git apply --check "$p" 2>/dev/null); then
+    echo "mutant $(basename "$p" .patch): the patch no longer applies to the checkout; regenerate it" >&2
     exit 2
   fi
-  perl -pi -e "$subst" "$src/$file"
-  echo "== $name: $what"
-  if ! cmake --build "$bld" --target "$target" -j "${RAYPROOF_JOBS:-2}" >"$work/$name.build.log" 2>&1; then
-    grep -E "error|FAILED" "$work/$name.build.log" | head -20
-    echo "   build FAILED (log: build/fuzz/mutants/$name.build.log)"
-    exit 1
-  fi
-  dir="$work/$name"
-  rm -rf "$dir"
-  mkdir -p "$dir/corpus" "$dir/artifacts"
-  corpora=("$dir/corpus")
-  [ $empty -eq 1 ] || corpora+=("$ROOT/fuzz/corpus/$target")
-  t0=$(date +%s.%N)
-  set +e
-  (cd "$dir" && env -u RAYPROOF_FUZZ_IGNORE -u RAYPROOF_FUZZ_ONLY "$bld/fuzz/$target" \
-     -max_total_time="$seconds" -timeout=10 -rss_limit_mb=4096 -max_len="$(fuzz_max_len "$target")" \
-     -dict="$(fuzz_dict "$target")" -print_final_stats=1 -artifact_prefix="$dir/artifacts/" \
-     "${corpora[@]}" >"$dir/fuzz.log" 2>&1)
-  rc=$?
-  set -e
-  took=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
-  read -r execs rate cov ft < <(fuzz_stats "$dir/fuzz.log")
-  if [ $rc -ne 0 ]; then
-    found="FOUND"
-    detail=$(fuzz_finding "$dir/fuzz.log")
-  else
-    found="SURVIVED"
-    detail="no report in ${seconds} s"
-    survived=$((survived + 1))
-  fi
-  results+=("$(printf '%-26s %-16s %-8s %6s s %9s execs  %s' "$name" "$target" "$found" "$took" "$execs" "$detail")")
-  echo "   ${results[-1]}"
 done
-# Leave the copy as in the checkout.
-restore_all
 
-echo "== mutants summary (limit ${seconds} s each, $( [ $empty -eq 1 ] && echo 'empty corpus' || echo 'committed corpus'))"
-printf '%s\n' "${results[@]}"
-[ $ran -gt 0 ] || { echo "no mutation named $only" >&2; exit 2; }
-if [ $survived -gt 0 ]; then
-  echo "== $survived mutant(s) survived"
+work="${RAYPROOF_MUTANTS_WORK:-$ROOT/build/mutants}"
+src="$work/src"
+suites_bld="$src/build/suites"
+fuzz_bld="$src/build/fuzz"
+mkdir -p "$src" "$work/logs"
+# The copy is a repository of its own, so that `git apply` there patches its files.
+[ -d "$src/.git" ] || git -C "$src" init -q
+# The tracked files of the checkout as they are now (uncommitted edits included); a file
+# is copied only when its content differs, so that unchanged files keep their time
+# stamps and the builds stay incremental.
+(cd "$ROOT" && git ls-files -z) | python3 -c '
+import filecmp, os, shutil, sys
+root, dst = sys.argv[1], sys.argv[2]
+copied = 0
+for rel in sys.stdin.buffer.read().decode().split("\0"):
+    if not rel or not os.path.isfile(os.path.join(root, rel)):
+        continue
+    a, b = os.path.join(root, rel), os.path.join(dst, rel)
+    if os.path.isfile(b) and filecmp.cmp(a, b, shallow=False):
+        continue
+    os.makedirs(os.path.dirname(b), exist_ok=True)
+    shutil.copyfile(a, b)
+    shutil.copymode(a, b)
+    copied += 1
+print(f"== mutants: {copied} file(s) copied to {dst}")
+' "$ROOT" "$src"
+
+if [ $suites -eq 1 ] && [ ! -f "$suites_bld/build.ninja" ]; then
+  echo "== mutants: configuring $suites_bld (g++)"
+  cmake -S "$src" -B "$suites_bld" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER=g++ \
+    -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" -DRAYPROOF_WERROR=OFF -DRAYPROOF_ORACLE=ON \
+    -DRAYPROOF_RENDER=OFF -DRAYPROOF_BENCH=OFF -DRAYPROOF_PYTHON=OFF -DRAYPROOF_FUZZ=OFF \
+    >"$work/logs/suites.configure.log" 2>&1 || { cat "$work/logs/suites.configure.log"; exit 1; }
+fi
+if [ $fuzz -eq 1 ] && [ ! -f "$fuzz_bld/build.ninja" ]; then
+  echo "== mutants: configuring $fuzz_bld (clang, libFuzzer, sanitizers)"
+  cmake -S "$src" -B "$fuzz_bld" -G Ninja -DCMAKE_CXX_COMPILER="${RAYPROOF_FUZZ_CXX:-clang++}" \
+    -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g" \
+    -DCMAKE_CXX_FLAGS="$SANITIZE" -DCMAKE_EXE_LINKER_FLAGS="$SANITIZE" \
+    -DRAYPROOF_FUZZ=ON -DRAYPROOF_ORACLE=ON -DRAYPROOF_RENDER=OFF -DRAYPROOF_BENCH=OFF \
+    -DRAYPROOF_PYTHON=OFF -DBUILD_TESTING=OFF -DRAYPROOF_WERROR=OFF \
+    >"$work/logs/fuzz.configure.log" 2>&1 || { cat "$work/logs/fuzz.configure.log"; exit 1; }
+fi
+rc_default=""
+[ $suites -eq 0 ] || rc_default=$(sed -n 's/^RAYPROOF_RC_DEFAULT:STRING=//p' "$suites_bld/CMakeCache.txt")
+
+# The suites of a shape: "binary gtest-filter" per line, run in this order.
+suite_lines() {
+  local s="$1" S
+  S="$(tr '[:lower:]' '[:upper:]' <<<"${s:0:1}")${s:1}"
+  [ "$s" = aabb ] && S=Aabb
+  [ "$s" = obb ] && S=Obb
+  echo "tests/unit/ray_${s}_test *"
+  echo "tests/oracle/ray_${s}_oracle_test *"
+  echo "tests/exact_stage/certified_exact_stage_test *.${S}*"
+  echo "tests/props/ray_${s}_props *"
+}
+
+applied=""
+undo() {
+  if [ -n "$applied" ]; then
+    git -C "$src" apply -R "$applied" || true
+    applied=""
+  fi
+}
+judge_pid=""
+cleanup() {
+  [ -z "$judge_pid" ] || kill -- "$judge_pid" 2>/dev/null || true
+  undo
+}
+trap cleanup EXIT
+
+# judge NAME TARGET: runs the snapshot of the mutant's binaries in $work/run/NAME (the
+# fuzz target from an empty corpus in the background, the suites meanwhile) and writes
+# the mutant's matrix row to $work/run/NAME/row and its report to $work/run/NAME/report.
+judge() {
+  local name="$1" target="$2" run="$work/run/$1" fuzz_pid="" suite_result="not run" suite_cell="not run"
+  local fuzz_result="not run" fuzz_cell="not run" t0 fuzz_t0 rc took execs rate cov ft b bin filter out failed
+  if [ -x "$run/fuzz/$target" ]; then
+    mkdir -p "$run/fuzz/corpus" "$run/fuzz/artifacts"
+    fuzz_t0=$(date +%s.%N)
+    (cd "$run/fuzz" && exec env -u RAYPROOF_FUZZ_IGNORE -u RAYPROOF_FUZZ_ONLY "./$target" \
+       -max_total_time="$seconds" -timeout=10 -rss_limit_mb=4096 -max_len="$(fuzz_max_len "$target")" \
+       -dict="$(fuzz_dict "$target")" -print_final_stats=1 -artifact_prefix="$run/fuzz/artifacts/" \
+       corpus >"$run/fuzz/fuzz.log" 2>&1) &
+    fuzz_pid=$!
+  fi
+  if [ -f "$run/suites.txt" ]; then
+    suite_result="survived"
+    t0=$(date +%s)
+    while IFS='|' read -r bin filter; do
+      out="$run/$bin.$(echo "$filter" | tr -c 'A-Za-z0-9\n' _).log"
+      if ! (cd "$run" && env -u RC_PARAMS RAYPROOF_RC_DEFAULT="$rc_default" "./$bin" \
+             --gtest_filter="$filter" --gtest_fail_fast --gtest_brief=1 >"$out" 2>&1); then
+        failed=$(sed -n 's/^\[  FAILED  \] \([^ ,]*\).*/\1/p' "$out" | head -1)
+        suite_result="killed by $bin ${failed:-(crashed: see $out)}"
+        break
+      fi
+    done <"$run/suites.txt"
+    suite_result="$suite_result ($(( $(date +%s) - t0 )) s)"
+    suite_cell="${suite_result#killed by }"
+    [[ "$suite_result" != survived* ]] || suite_cell="**${suite_result}**"
+  fi
+  if [ -n "$fuzz_pid" ]; then
+    set +e; wait "$fuzz_pid"; rc=$?; set -e
+    took=$(awk -v a="$fuzz_t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.0f", b - a }')
+    read -r execs rate cov ft < <(fuzz_stats "$run/fuzz/fuzz.log")
+    if [ $rc -ne 0 ]; then
+      fuzz_result="found after $took s, $execs execs: $(fuzz_finding "$run/fuzz/fuzz.log")"
+      fuzz_cell="found: $took s, $execs execs"
+    else
+      fuzz_result="survived $seconds s ($execs execs)"
+      fuzz_cell="**survived** $seconds s ($execs execs)"
+    fi
+  fi
+  {
+    echo "   $name suites: $suite_result"
+    echo "   $name fuzz:   $fuzz_result"
+  } >"$run/report"
+  echo "| $name | $target | $suite_cell | $fuzz_cell |" >"$run/row"
+  # Killed by neither judgement.
+  if [[ "$suite_result" != killed* ]] && [[ "$fuzz_result" != found* ]]; then touch "$run/survived"; fi
+  # The snapshots are large: keep only the logs.
+  rm -f "$run/fuzz/$target"
+  if [ -f "$run/suites.txt" ]; then cut -d'|' -f1 "$run/suites.txt" | sort -u | sed "s|^|$run/|" | xargs rm -f; fi
+}
+
+# wait_judge: the running judgement, if any, finished and reported.
+wait_judge() {
+  if [ -n "$judge_pid" ]; then
+    wait "$judge_pid" || true
+    cat "$work/run/$judge_name/report"
+    judge_pid=""
+  fi
+}
+
+started=$(date -u +%Y-%m-%dT%H:%MZ)
+names=()
+ran=0
+for p in "${PATCHES[@]}"; do
+  name=$(basename "$p" .patch)
+  selected "$name" || continue
+  ran=$((ran + 1))
+  names+=("$name")
+  target=$(header target "$p") shapes=$(header shapes "$p") what=$(header breaks "$p")
+  log="$work/logs/$name"
+  if ! git -C "$src" apply "$p" 2>"$log.apply.log"; then
+    echo "mutant $name: the patch no longer applies ($(head -1 "$log.apply.log")); update fuzz/mutants/$name.patch" >&2
+    exit 2
+  fi
+  applied="$p"
+  echo "== $name ($target; $shapes): $what"
+
+  # Build the shapes' suites and the fuzz target, then snapshot the binaries, so that the
+  # judgement runs while the next mutant builds.
+  run="$work/run/$name"
+  rm -rf "$run"
+  mkdir -p "$run/fuzz"
+  if [ $suites -eq 1 ]; then
+    for s in $shapes; do suite_lines "$s"; done | awk '!seen[$0]++' >"$run/suites.full"
+    targets=$(awk '{ n = split($1, a, "/"); print a[n] }' "$run/suites.full" | sort -u | tr '\n' ' ')
+    t0=$(date +%s)
+    # shellcheck disable=SC2086
+    if ! cmake --build "$suites_bld" --target $targets -j "${RAYPROOF_JOBS:-2}" >"$log.suites.build.log" 2>&1; then
+      grep -E "error|FAILED" "$log.suites.build.log" | head -20
+      echo "   suites build FAILED (log: $log.suites.build.log)"; exit 1
+    fi
+    echo "   suites built in $(( $(date +%s) - t0 )) s"
+    while read -r bin filter; do
+      cp "$suites_bld/$bin" "$run/$(basename "$bin")"
+      echo "$(basename "$bin")|$filter"
+    done <"$run/suites.full" >"$run/suites.txt"
+  fi
+  if [ $fuzz -eq 1 ]; then
+    t0=$(date +%s)
+    if ! cmake --build "$fuzz_bld" --target "$target" -j "${RAYPROOF_JOBS:-2}" >"$log.fuzz.build.log" 2>&1; then
+      grep -E "error|FAILED" "$log.fuzz.build.log" | head -20
+      echo "   fuzz build FAILED (log: $log.fuzz.build.log)"; exit 1
+    fi
+    echo "   fuzz target built in $(( $(date +%s) - t0 )) s"
+    cp "$fuzz_bld/fuzz/$target" "$run/fuzz/$target"
+  fi
+  undo
+
+  wait_judge
+  judge "$name" "$target" &
+  judge_pid=$! judge_name="$name"
+done
+wait_judge
+[ $ran -gt 0 ] || { echo "no mutant named ${only//,/ }" >&2; exit 2; }
+
+echo "== kill matrix (started $started, fuzzing limit $seconds s from an empty corpus)"
+echo "| mutant | fuzz target | suites: first failing test (run time) | fuzz from empty |"
+echo "|---|---|---|---|"
+both_survived=0
+for name in "${names[@]}"; do
+  cat "$work/run/$name/row"
+  [ ! -f "$work/run/$name/survived" ] || both_survived=$((both_survived + 1))
+done
+if [ $both_survived -gt 0 ]; then
+  echo "== $both_survived mutant(s) survived both judgements"
   exit 1
 fi
-echo "== every mutant was found"
+echo "== every mutant was killed"

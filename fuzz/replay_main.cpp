@@ -4,7 +4,8 @@
 // with '.'), so that any compiler (g++ included) replays the corpora and the
 // regressions. A failing input aborts the program after printing the case (the
 // harness names the file being replayed); the exit status is 0 when all inputs pass,
-// 2 on a usage error. `-v` prints each file name before running it.
+// 2 on a usage error. `-v` prints each file name before running it. The triage filters
+// (RAYPROOF_FUZZ_ONLY, RAYPROOF_FUZZ_IGNORE) are ignored: every input is judged in full.
 #include "fuzz_common.hpp"
 
 #include <rayproof/cli.hpp>
@@ -12,6 +13,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -40,6 +42,9 @@ int main(int argc, char** argv) {
     app.add_flag("-v", verbose, "print each file name before running it");
     app.add_option("FILE_OR_DIR", args, "the inputs")->required();
     if (const auto stop = rayproof::cli::parse(app, argc, argv)) return *stop;
+    rayproof::fuzz::filters_enabled() = false;
+    for (const char* var : {"RAYPROOF_FUZZ_ONLY", "RAYPROOF_FUZZ_IGNORE"})
+        if (const char* v = std::getenv(var); v && *v) std::cerr << argv[0] << ": " << var << " is ignored by the replay\n";
     std::vector<fs::path> files;
     for (const std::string& arg : args) {
         std::error_code ec;
