@@ -186,7 +186,7 @@ RenderSettings read_render(const json& j) {
 }
 
 Light read_light(const json& j, const std::string& path) {
-    const Obj o(j, path, {"position", "color", "attenuation", "name"});
+    const Obj o(j, path, {"position", "color", "attenuation", "radius", "name"});
     Light l;
     l.position = vec3(o.get("position"), o.path("position"));
     if (o.has("color")) l.color = color(o.get("color"), o.path("color"));
@@ -196,12 +196,30 @@ Light read_light(const json& j, const std::string& path) {
         if (!(c.minCoeff() >= 0)) fail(p, "expected [c1, c2, c3] with every coefficient >= 0, got " + show(o.get("attenuation")));
         l.c1 = c[0], l.c2 = c[1], l.c3 = c[2];
     }
+    if (o.has("radius")) l.radius = number_in(o.get("radius"), o.path("radius"), 0, max_magnitude, "a radius >= 0");
     if (o.has("name")) string(o.get("name"), o.path("name"));
     return l;
 }
 
+// false, true, or [c1, c2, c3] (each >= 0).
+TreeAttenuation read_tree_attenuation(const json& j) {
+    const std::string path = "tree_attenuation";
+    TreeAttenuation t;
+    if (j.is_boolean()) {
+        t.enabled = j.get<bool>();
+        return t;
+    }
+    if (!j.is_array())
+        fail(path, "expected false, true or [c1, c2, c3], got " + type_name(j) + " " + show(j));
+    const Vec3d c = vec3(j, path);
+    if (!(c.minCoeff() >= 0)) fail(path, "expected [c1, c2, c3] with every coefficient >= 0, got " + show(j));
+    t.c1 = c[0], t.c2 = c[1], t.c3 = c[2];
+    return t;
+}
+
 Material read_material(const json& j, const std::string& path, std::string name) {
-    const Obj o(j, path, {"ambient", "diffuse", "specular", "shininess", "highlight", "reflectivity", "transparency", "ior"});
+    const Obj o(j, path, {"ambient", "diffuse", "specular", "shininess", "highlight", "reflectivity", "transparency", "ior",
+                           "translucency"});
     Material m;
     m.name = std::move(name);
     if (o.has("diffuse")) m.diffuse = color(o.get("diffuse"), o.path("diffuse"));
@@ -219,6 +237,8 @@ Material read_material(const json& j, const std::string& path, std::string name)
     if (o.has("transparency"))
         m.transparency = number_in(o.get("transparency"), o.path("transparency"), 0, 1, "a number in [0, 1]");
     if (o.has("ior")) m.ior = number_in(o.get("ior"), o.path("ior"), 1e-3, 1e3, "an index of refraction in [0.001, 1000]");
+    if (o.has("translucency"))
+        m.translucency = number_in(o.get("translucency"), o.path("translucency"), 0, 1, "a number in [0, 1]");
     return m;
 }
 
@@ -318,12 +338,14 @@ void line_column(std::string_view text, std::size_t offset, int& line, int& colu
 }
 
 Scene read_scene(const json& root) {
-    const Obj top(root, "", {"camera", "render", "ambient_light", "lights", "materials", "objects", "description"});
+    const Obj top(root, "", {"camera", "render", "ambient_light", "lights", "materials", "objects", "description",
+                                     "tree_attenuation"});
     Scene s;
     s.camera = read_camera(top.get("camera"));
     if (top.has("render")) s.settings = read_render(top.get("render"));
     if (top.has("ambient_light")) s.ambient_light = color(top.get("ambient_light"), "ambient_light");
     if (top.has("description")) string(top.get("description"), "description");
+    if (top.has("tree_attenuation")) s.tree_attenuation = read_tree_attenuation(top.get("tree_attenuation"));
     if (top.has("lights")) {
         const json& ls = top.get("lights");
         if (!ls.is_array()) fail("lights", "expected an array of lights, got " + type_name(ls));

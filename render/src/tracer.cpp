@@ -40,11 +40,26 @@ struct Candidate {
 template <class M> class Tracer {
 public:
     Tracer(const Scene& scene, const TraceOptions& opt, Stats& stats)
-        : s_(scene), opt_(opt), st_(stats) {}
+        : s_(scene), opt_(opt), st_(stats) {
+        for (std::size_t i = 0; i < scene.lights.size(); ++i)
+            if (scene.lights[i].visible()) bulbs_.push_back({int(i), {scene.lights[i].position, scene.lights[i].radius}});
+    }
 
+    // The colour seen along `ray`, a node of the ray tree at `depth` (1: a primary ray).
+    // Below the root a node is weighed by the tree attenuation of its distance from its
+    // parent, the ray's origin (scene.hpp); the background is no node and is not weighed.
     Color trace(const Rayd& ray, int depth, double weight) {
         const Candidate c = closest(ray);
-        if (c.object < 0) return s_.settings.background;
+        const int bulb = nearest_bulb(ray, c.t);
+        if (c.object < 0 && bulb < 0) return s_.settings.background;
+        const double t = bulb >= 0 ? bulb_t_ : c.t;
+        const double f = depth > 1 ? s_.tree_attenuation.factor(t * ray.direction.norm()) : 1;
+        if (bulb >= 0) return f * s_.lights[std::size_t(bulb)].color;
+        return f * shade(ray, c, depth, weight * f);
+    }
+
+private:
+    Color shade(const Rayd& ray, const Candidate& c, int depth, double weight) {
         const Object& obj = s_.objects[std::size_t(c.object)];
         const Material& mat = s_.materials[std::size_t(obj.material)];
         const SurfacePoint sp = surface(obj.shape, ray, c);
@@ -80,7 +95,17 @@ public:
         return (1 - kt) * (local + reflected) + kt * transmitted;
     }
 
-private:
+    // The visible light whose sphere the ray meets first, before t_limit (the closest
+    // object's t), or -1; its t in bulb_t_. A ray starting inside a light's sphere sees it.
+    int nearest_bulb(const Rayd& ray, double t_limit) {
+        int best = -1;
+        for (const Bulb& b : bulbs_) {
+            const Hitd h = query(ray, Shape(b.sphere));
+            if (h && h.t_enter < t_limit) best = b.light, t_limit = bulb_t_ = h.t_enter;
+        }
+        return best;
+    }
+
     Hitd query(const Rayd& r, const Shape& shape) {
         ++st_.kernel_queries;
         const Hitd h = std::visit([&](const auto& sh) { return rayproof::intersect(r, sh, M{}); }, shape);
@@ -88,24 +113,34 @@ private:
         return h;
     }
 
-    // Whether a shadow segment meets the object (a segment lying in a plane does not: it
-    // is not seen, as in closest()). Solids need the verdict alone; a plane needs the
-    // full answer to tell lying from crossing.
-    bool blocks(const Rayd& r, const Shape& shape) {
+    // How many times a shadow segment crosses the object's surface: 0 when it misses (a
+    // segment lying in a plane does not see it, as in closest()); a plane 1; a solid 2,
+    // or 1 when the segment starts or ends inside it (its interval begins at t_min or
+    // ends at t_max). A light keeps K_t at each crossing. For an opaque object only
+    // "at least one" matters, and solids answer it with the verdict alone.
+    int crossings(const Rayd& r, const Object& obj) {
         ++st_.kernel_queries;
+        const bool opaque = !s_.materials[std::size_t(obj.material)].transparent();
         return std::visit(
-            [&](const auto& sh) {
-                if constexpr (std::is_same_v<std::decay_t<decltype(sh)>, Plane<double>>) {
-                    const Hitd h = rayproof::intersect(r, sh, M{});
-                    if (h.verdict == Verdict::invalid) ++st_.invalid;
-                    return bool(h) && !lies_in_plane(r, h);
+            [&](const auto& sh) -> int {
+                constexpr bool plane = std::is_same_v<std::decay_t<decltype(sh)>, Plane<double>>;
+                if constexpr (!plane) {
+                    if (opaque) {
+                        const Verdict v = rayproof::verdict(r, sh, M{});
+                        if (v == Verdict::invalid) ++st_.invalid;
+                        return v == Verdict::hit ? 1 : 0;
+                    }
+                }
+                const Hitd h = rayproof::intersect(r, sh, M{});
+                if (h.verdict == Verdict::invalid) ++st_.invalid;
+                if (!h) return 0;
+                if constexpr (plane) {
+                    return lies_in_plane(r, h) ? 0 : 1;
                 } else {
-                    const Verdict v = rayproof::verdict(r, sh, M{});
-                    if (v == Verdict::invalid) ++st_.invalid;
-                    return v == Verdict::hit;
+                    return int(h.t_enter > r.t_min) + int(h.t_exit < r.t_max);
                 }
             },
-            shape);
+            obj.shape);
     }
 
     // A plane hit that covers the whole range is the ray lying in the plane: not seen.
@@ -254,8 +289,13 @@ private:
         if (!(dist > 0)) return Color::Zero();
         const Vec3d L = to_light / dist;
         const double nl = sp.n.dot(L);
-        if (!(nl > 0)) return Color::Zero();  // the light is behind the surface
         const double att = std::min(1.0, 1.0 / (l.c1 + l.c2 * dist + l.c3 * dist * dist));
+        if (!(nl > 0)) {  // the light is behind the surface: only a translucent one lets it through
+            if (!(nl < 0) || !(mat.translucency > 0)) return Color::Zero();
+            const Color back = att * l.color * mat.diffuse * (mat.translucency * -nl);
+            if (!(back > 0).any()) return Color::Zero();
+            return back * shadow(sp, l, -1);
+        }
         Color term = mat.diffuse * nl;
         if ((mat.specular > 0).any()) {
             const Vec3d V = -u;
@@ -270,12 +310,13 @@ private:
         }
         const Color contribution = att * l.color * term;
         if (!(contribution > 0).any()) return Color::Zero();
-        return contribution * shadow(sp, l);
+        return contribution * shadow(sp, l, +1);
     }
 
-    // The fraction of the light that reaches sp: 0 behind an opaque object, the product
-    // of the transparencies of the transparent objects in between.
-    Color shadow(const SurfacePoint& sp, const Light& l) {
+    // The fraction of the light that reaches sp along the segment that leaves sp on the
+    // side `side` (+1: the side the incoming ray came from): 0 behind an opaque object,
+    // else K_t for each surface of a transparent object the segment crosses.
+    Color shadow(const SurfacePoint& sp, const Light& l, int side) {
         ++st_.shadow;
         Rayd r;
         if (opt_.offset == OffsetPolicy::naive) {
@@ -284,13 +325,16 @@ private:
             r = Rayd{sp.p, d / dist, opt_.naive_t_min, dist};
         } else {
             // The segment from the offset origin to the light: t in [0, 1].
-            const Vec3d o = offset_origin(sp.p, sp.n, std::max(sp.offset, underflow_floor(sp.p, l.position - sp.p)));
+            const Vec3d o = offset_origin(sp.p, side > 0 ? sp.n : Vec3d(-sp.n),
+                                          std::max(sp.offset, underflow_floor(sp.p, l.position - sp.p)));
             r = Rayd{o, l.position - o, 0, 1};
         }
         double pass = 1;
         for (const Object& obj : s_.objects) {
-            if (!blocks(r, obj.shape)) continue;
-            pass *= s_.materials[std::size_t(obj.material)].transparency;
+            const int n = crossings(r, obj);
+            if (n == 0) continue;
+            const double kt = s_.materials[std::size_t(obj.material)].transparency;
+            pass *= n == 1 ? kt : kt * kt;
             if (pass <= 0) {
                 ++st_.shadowed;
                 return Color::Zero();
@@ -299,9 +343,16 @@ private:
         return Color::Constant(pass);
     }
 
+    struct Bulb {
+        int light;  // index into Scene::lights
+        Sphere<double> sphere;
+    };
+
     const Scene& s_;
     const TraceOptions& opt_;
     Stats& st_;
+    std::vector<Bulb> bulbs_;  // the visible lights
+    double bulb_t_ = inf;      // nearest_bulb's t
 };
 
 template <class M> Color pixel(Tracer<M>& tr, const Scene& s, int x, int y, Stats& st) {

@@ -100,7 +100,7 @@ TEST_P(Lighting, LightBehindSurfaceGivesAmbientOnly) {
 }
 
 // A ball between the floor point and the light: opaque, only ambient remains;
-// transparent with K_t = 0.25, a quarter of the direct light passes.
+// transparent with K_t = 0.25, K_t² of the direct light passes (two surfaces crossed).
 TEST_P(Lighting, ShadowsOpaqueAndTransparent) {
     for (double kt : {0.0, 0.25}) {
         SCOPED_TRACE(kt);
@@ -112,7 +112,7 @@ TEST_P(Lighting, ShadowsOpaqueAndTransparent) {
         blocker.transparency = kt;
         blocker.ior = 1;
         add(s, Sphere<double>{{1.5, 2, 0}, 0.5}, blocker);  // on the segment from (0,0,0) to (3,4,0)
-        expect_color(radiance(s, centre, centre), Color::Constant(0.2 * 0.5 + kt * 0.5 * 0.8));
+        expect_color(radiance(s, centre, centre), Color::Constant(0.2 * 0.5 + kt * kt * 0.5 * 0.8));
     }
 }
 

@@ -35,10 +35,31 @@ struct Camera {
 };
 
 // Point light. Attenuation f_att = min(1 / (c1 + c2·d + c3·d²), 1), d the distance.
+// A light with radius > 0 is also seen: camera, reflected and refracted rays that meet the
+// sphere of that radius around it before any object take its colour (the notes' "a ray
+// that reaches an opaque light source takes the light's colour"); it casts no shadow and
+// still lights the scene from its centre. radius 0: a point, never seen.
 struct Light {
     Vec3d position{0, 0, 0};
     Color color{1, 1, 1};
     double c1 = 1, c2 = 0, c3 = 0;
+    double radius = 0;
+    bool visible() const { return radius > 0; }
+};
+
+// The ray tree's distance attenuation (the notes: the intensity at each node of the ray
+// tree is attenuated by its distance from the parent node): a reflected or refracted
+// ray's colour is weighed by f = min(1 / (c1 + c2·d + c3·d²), 1), d the distance from the
+// point it leaves to the point it meets (a ray that meets nothing brings the background,
+// unweighed: the background is no node). Primary rays are not weighed.
+struct TreeAttenuation {
+    bool enabled = true;
+    double c1 = 1, c2 = 0, c3 = 0.01;
+    double factor(double d) const {
+        if (!enabled) return 1;
+        const double denominator = c1 + c2 * d + c3 * d * d;
+        return denominator > 1 ? 1 / denominator : 1;  // min(1 / x, 1), and 1 for x = 0
+    }
 };
 
 enum class Highlight { phong, blinn };  // K_s·(R·V)^n or K_s·(N·H)^n
@@ -53,6 +74,11 @@ struct Material {
     Color reflectivity{0, 0, 0};  // weight of the reflected ray
     double transparency = 0;      // K_t: I = (1 - K_t)·(local + reflected) + K_t·transmitted
     double ior = 1;               // index of refraction of the solid (the outside is ior 1)
+    // Diffuse transparency (translucency) k_dt: light reaching the surface from behind, from
+    // the side the incoming ray did not come from, lights it by K_d·k_dt·(-N·L) (the notes'
+    // diffuse refraction, the direct part only: no Monte Carlo estimate of the light
+    // scattered in from other surfaces). The shadow ray then leaves on that far side.
+    double translucency = 0;
     bool reflective() const { return (reflectivity > 0).any(); }
     bool transparent() const { return transparency > 0; }
 };
@@ -77,6 +103,7 @@ struct RenderSettings {
 struct Scene {
     Camera camera;
     Color ambient_light{0, 0, 0};  // I_a
+    TreeAttenuation tree_attenuation;
     std::vector<Light> lights;
     std::vector<Material> materials;
     std::vector<Object> objects;
