@@ -67,7 +67,7 @@ TEST_P(Golden, MatchesWithinTolerance) {
 
 std::vector<Case> cases() {
     std::vector<Case> v;
-    for (const char* s : {"default", "cube", "hostile"})
+    for (const char* s : {"default", "cube", "hostile", "notes"})
         for (Mode m : every_mode()) v.push_back({s, m});
     return v;
 }
