@@ -28,6 +28,7 @@ struct Args {
     std::vector<Mode> diff;  // --diff A B
     int diff_threshold = 0;
     bool stats = false, quiet = false;
+    bool no_tree_attenuation = false;
 };
 
 // A mode's name, checked and turned into the enum's value.
@@ -51,6 +52,8 @@ void add_common(CLI::App& cmd, Args& a, const char* output_help) {
     cmd.add_option("-o,--output", a.output, output_help);
     cmd.add_option("--width", a.width, "image width in pixels")->check(CLI::Range(1, 16384));
     cmd.add_option("--height", a.height, "image height in pixels")->check(CLI::Range(1, 16384));
+    cmd.add_flag("--no-tree-attenuation", a.no_tree_attenuation,
+                 "turn off the ray tree's distance attenuation (the scene's \"tree_attenuation\")");
 }
 
 std::optional<Scene> load(const Args& a, const char* cmd) {
@@ -65,6 +68,7 @@ std::optional<Scene> load(const Args& a, const char* cmd) {
     if (a.depth) s.settings.depth = *a.depth;
     if (a.supersample) s.settings.supersample = *a.supersample;
     if (a.mode) s.settings.mode = *a.mode;
+    if (a.no_tree_attenuation) s.tree_attenuation.enabled = false;
     if ((long long)s.settings.width * s.settings.height > (1LL << 26)) {
         std::fprintf(stderr, "rayproof %s: %d x %d pixels is too large\n", cmd, s.settings.width, s.settings.height);
         return std::nullopt;
@@ -133,7 +137,9 @@ int run_render(const Args& a) {
 int run_export(const Args& a) {
     const std::optional<Scene> scene = load(a, "export-pov");
     if (!scene) return 1;
-    const std::string text = export_pov(*scene, a.scene);
+    const PovScene pov = to_pov(*scene, a.scene);
+    for (const std::string& line : pov.inexact) std::fprintf(stderr, "rayproof export-pov: not exact: %s\n", line.c_str());
+    const std::string& text = pov.text;
     if (a.output.empty()) {
         std::fwrite(text.data(), 1, text.size(), stdout);
         return std::fflush(stdout) == 0 ? 0 : 1;
@@ -145,6 +151,27 @@ int run_export(const Args& a) {
         std::fprintf(stderr, "rayproof export-pov: cannot write '%s'\n", a.output.c_str());
         return 1;
     }
+    return 0;
+}
+
+// `rayproof compare A B`: how far two images of the same size are apart.
+int run_compare(const std::string& a_path, const std::string& b_path) {
+    Image a, b;
+    for (const auto& [path, img] : {std::pair<const std::string&, Image&>{a_path, a}, {b_path, b}})
+        if (const std::string e = read_image(path, img); !e.empty()) {
+            std::fprintf(stderr, "rayproof compare: %s\n", e.c_str());
+            return 1;
+        }
+    const ImageComparison c = compare(a, b);
+    if (!c.same_size) {
+        std::fprintf(stderr, "rayproof compare: the images differ in size: %dx%d and %dx%d\n", a.width, a.height,
+                     b.width, b.height);
+        return 1;
+    }
+    std::printf("mean absolute difference %.3f/255 per channel; largest %d/255; %lld of %lld pixels differ; "
+                "PSNR %.2f dB\n",
+                c.mean_abs_difference, c.max_channel_difference, c.differing_pixels,
+                (long long)a.width * a.height, c.psnr);
     return 0;
 }
 
@@ -193,6 +220,11 @@ void add_commands(CLI::App& app, int& status) {
     pov.footer("e.g. rayproof export-pov scene.json > scene.pov && povray +W320 +H240 scene.pov");
     add_common(pov, *e, "write into this file instead of stdout");
     set_callback(pov, e, status, run_export);
+
+    const auto images = std::make_shared<std::vector<std::string>>();
+    CLI::App& cmp = *app.add_subcommand("compare", "how far two images (PNG or PPM, same size) are apart");
+    cmp.add_option("IMAGES", *images, "the two images")->required()->expected(2)->type_name("A B");
+    cmp.callback([images, &status] { status = run_compare((*images)[0], (*images)[1]); });
 }
 
 }  // namespace rayproof::render

@@ -191,18 +191,20 @@ ImageComparison compare(const Image& a, const Image& b, int threshold) {
     ImageComparison c;
     c.same_size = a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size();
     if (!c.same_size) return c;
-    double sq = 0;
+    double sq = 0, sum = 0;
     for (std::size_t i = 0; i < a.rgb.size(); i += 3) {
         int m = 0;
         for (std::size_t k = 0; k < 3; ++k) {
             const int d = std::abs(int(a.rgb[i + k]) - int(b.rgb[i + k]));
             m = std::max(m, d);
             sq += double(d) * d;
+            sum += d;
         }
         c.max_channel_difference = std::max(c.max_channel_difference, m);
         if (m > threshold) ++c.differing_pixels;
     }
     const double mse = a.rgb.empty() ? 0 : sq / double(a.rgb.size());
+    c.mean_abs_difference = a.rgb.empty() ? 0 : sum / double(a.rgb.size());
     c.psnr = mse == 0 ? std::numeric_limits<double>::infinity() : 10 * std::log10(255.0 * 255.0 / mse);
     return c;
 }

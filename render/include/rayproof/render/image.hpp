@@ -34,6 +34,7 @@ struct ImageComparison {
     bool same_size = false;
     long long differing_pixels = 0;  // pixels whose largest channel difference exceeds the threshold
     int max_channel_difference = 0;
+    double mean_abs_difference = 0;  // mean over every channel of every pixel, in 1/255
     double psnr = 0;  // dB; +inf when identical
 };
 ImageComparison compare(const Image& a, const Image& b, int threshold = 0);

@@ -7,10 +7,17 @@
 #include <rayproof/render/scene.hpp>
 
 #include <string>
+#include <vector>
 
 namespace rayproof::render {
 
+struct PovScene {
+    std::string text;                  // the POV-Ray 3.7 scene
+    std::vector<std::string> inexact;  // what it does not render as rayproof does, one line each
+};
+
 // source_name goes into the header comment only.
-std::string export_pov(const Scene& scene, const std::string& source_name = "");
+PovScene to_pov(const Scene& scene, const std::string& source_name = "");
+std::string export_pov(const Scene& scene, const std::string& source_name = "");  // to_pov(...).text
 
 }  // namespace rayproof::render
