@@ -1,20 +1,26 @@
 // rayproof/render/tracer.hpp — a Whitted-style recursive ray tracer on top of the kernel.
 //
 // Every ray query is a kernel call in the scene's mode: rayproof::intersect for primary,
-// reflected and refracted rays, rayproof::verdict (the yes/no query) for shadow rays
-// against solids, which need no t (against a plane the full answer, to tell a segment
-// lying in the plane from one crossing it). Lighting per RGB channel:
-//   I_local = I_a·K_a + Σ_lights S·f_att·I_l·(K_d·(N·L) + K_s·(R·V)^n)   [or K_s·(N·H)^n, Blinn]
+// reflected and refracted rays and the spheres of visible lights, rayproof::verdict (the
+// yes/no query) for shadow rays against opaque solids, which need no t (against a plane
+// or a transparent solid the full answer, to tell a segment lying in the plane from one
+// crossing it, and to count the surfaces crossed). Lighting per RGB channel:
+//   I_local = I_a·K_a + Σ_lights f_att·I_l·S·(K_d·(N·L) + K_s·(R·V)^n)   [or K_s·(N·H)^n, Blinn]
+//             (N·L < 0 instead: f_att·I_l·S'·K_d·k_dt·(-N·L), the translucency k_dt)
 //   f_att   = min(1 / (c1 + c2·d + c3·d²), 1)
-//   S       = 0 if an opaque object blocks the segment to the light, else the product of
-//             the transparencies K_t of the transparent objects on it
+//   S       = 0 if an opaque object blocks the segment to the light, else K_t for each
+//             surface of a transparent object the segment crosses (S': the segment that
+//             leaves on the far side)
 //   I       = (1 - K_t)·(I_local + k_r·I_reflected) + K_t·I_transmitted
+// A reflected or refracted node of the ray tree is weighed by the scene's tree attenuation
+// of its distance from its parent (scene.hpp); a ray that meets a visible light's sphere
+// first takes the light's colour.
 // Terms whose angle exceeds 90° are dropped (N·L <= 0: no diffuse, no specular and no
-// shadow ray; R·V < 0 or N·H < 0: no specular). Recursion stops at the maximum depth,
-// when a ray leaves the scene (background colour) or when the weight of a secondary ray
-// falls below RenderSettings::min_contribution. Shadow rays are traced only towards
-// lights, reflected rays only for reflective materials, refracted rays only for
-// transparent ones.
+// shadow ray unless translucent; R·V < 0 or N·H < 0: no specular). Recursion stops at
+// the maximum depth, when a ray leaves the scene (background colour) or meets a light,
+// or when the weight of a secondary ray falls below RenderSettings::min_contribution.
+// Shadow rays are traced only towards lights, reflected rays only for reflective
+// materials, refracted rays only for transparent ones.
 //
 // Inside and outside: a solid (sphere, box) whose interval starts at the ray's t_min
 // (boxes: face == -1) contains the ray's origin; the ray then meets the surface where it
