@@ -10,8 +10,8 @@
 //     (method, shape, type), one panel per workload.
 //
 //   rayproof_trade_report --bench B.json [--counters C.json] [--accuracy A.csv ...]
-//       [--tracer T.txt] [--meta KEY=VALUE ...] [--md OUT.md] [--plot-dir DIR --plot-png PNG]
-//       [--plot-ref NAME] [--tracer-png NAME] [--audit AUDIT.md] [--summary-md OUT.md]
+//       [--tracer T.txt] [--tracer-facts F.txt] [--meta KEY=VALUE ...] [--md OUT.md] [--plot-dir DIR --plot-png PNG]
+//       [--plot-ref NAME] [--tracer-png NAME] [--audit AUDIT.md] [--summary-md OUT.md] [--render-md OUT.md]
 //
 // Times are the median over repetitions of the CPU time of one pass over the cases,
 // divided by the number of cases (CPU time, not wall time: the machine may be shared);
@@ -304,6 +304,7 @@ struct Report {
     std::map<std::string, Accuracy> accuracy;
     std::vector<std::pair<std::string, std::string>> meta;
     std::vector<std::pair<std::string, double>> tracer;  // label -> seconds
+    std::map<std::string, double> tracer_facts;         // rays-MODE, queries-MODE, parity-*
     json context;
 
     const Timing* scalar(const std::string& shape, const std::string& type, const std::string& w,
@@ -590,6 +591,8 @@ std::string exact_stage_table(const Report& r) {
     return o;
 }
 
+std::string parity_paragraph(const Report& r);
+
 std::string tracer_table(const Report& r, const std::string& png) {
     if (r.tracer.empty()) return prose()("tracer.none");
     // Labels: MODE and povray (wall seconds), MODE-cpu and povray-cpu (user + system).
@@ -608,8 +611,52 @@ std::string tracer_table(const Report& r, const std::string& png) {
         o += row({name == "povray" ? "POV-Ray 3.7 (exported scene)" : "rayproof render, " + name, num(w),
                   num(w / pw), num(c), num(c / pc)});
     }
+    o += '\n' + parity_paragraph(r);
     if (!png.empty()) o += prose()("tracer.image", {{"png", png}});
     return o;
+}
+
+// Integers as integers, with thin separators: 1234567 -> 1,234,567.
+std::string count(double v) {
+    std::string d = fmt::format("{:.0f}", v), o;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+        if (i && (d.size() - i) % 3 == 0) o += ',';
+        o += d[i];
+    }
+    return o;
+}
+
+// The pixel-by-pixel comparison of the two pictures (rayproof compare), when it ran.
+std::string parity_paragraph(const Report& r) {
+    const auto& f = r.tracer_facts;
+    for (const char* k : {"parity-mean", "parity-max", "parity-differing", "parity-pixels", "parity-inexact"})
+        if (!f.count(k)) return prose()("tracer.parity.none");
+    const double mean = f.at("parity-mean");
+    return prose()("tracer.parity", {{"mean", fmt::format("{:.3f}", mean)},
+                                     {"mark", mean <= 3 ? "**yes**" : "**no**"},
+                                     {"max", count(f.at("parity-max"))},
+                                     {"differing", count(f.at("parity-differing"))},
+                                     {"pixels", count(f.at("parity-pixels"))},
+                                     {"inexact", count(f.at("parity-inexact"))}});
+}
+
+// render/README.md's paragraph on speed, from the same run; empty when a figure is missing.
+std::string render_speed(const Report& r) {
+    std::map<std::string, double> v(r.tracer_facts.begin(), r.tracer_facts.end());
+    for (const auto& [k, s] : r.tracer) v[k] = s;
+    Vars vars;
+    for (const char* m : {"fast", "conservative", "certified", "povray"})
+        for (const std::string& k : {std::string(m), std::string(m) + "-cpu"}) {
+            if (!v.count(k)) return "";
+            vars[k == m ? k : std::string(m) + "_cpu"] = fmt::format("{:.2f}", v[k]);
+        }
+    if (!v.count("rays-certified") || !v.count("queries-certified")) return "";
+    vars["rays"] = count(v["rays-certified"]);
+    vars["queries"] = count(v["queries-certified"]);
+    vars["date"] = "";
+    for (const auto& [k, m] : r.meta)
+        if (k == "date") vars["date"] = m;
+    return prose()("render_speed", vars);
 }
 
 // ---- the plot -----------------------------------------------------------------------
@@ -688,7 +735,8 @@ void write_plot_script(const std::string& path, const std::string& png) {
 
 // ---- the command line and the outputs -----------------------------------------------
 struct Args {
-    std::string bench, counters, tracer, md, plot_dir, plot_png, plot_ref, tracer_png, audit, summary_md;
+    std::string bench, counters, tracer, tracer_facts, md, plot_dir, plot_png, plot_ref, tracer_png, audit, summary_md;
+    std::string render_md;
     std::vector<std::string> accuracy;
     std::vector<std::pair<std::string, std::string>> meta;
 };
@@ -702,6 +750,10 @@ std::optional<int> parse_args(int argc, char** argv, Args& a) {
     app.add_option("--counters", a.counters, "rayproof_bench_counters' JSON");
     app.add_option("--accuracy", a.accuracy, "rayproof_trade_accuracy's CSV (repeatable)");
     app.add_option("--tracer", a.tracer, "the tracer timings: lines LABEL SECONDS");
+    app.add_option("--tracer-facts", a.tracer_facts,
+                   "the tracer's counts and its comparison with POV-Ray: lines KEY VALUE (rays-MODE, "
+                   "queries-MODE, parity-mean, parity-max, parity-differing, parity-pixels, parity-inexact)");
+    app.add_option("--render-md", a.render_md, "write render/README.md's paragraph on speed here");
     app.add_option("--meta", meta, "a line of the report's head (repeatable)")
         ->type_name("KEY=VALUE")
         ->check(CLI::Validator(
@@ -730,6 +782,12 @@ Report load(const Args& a) {
         std::string label;
         double seconds;
         while (in >> label >> seconds) r.tracer.emplace_back(label, seconds);
+    }
+    if (!a.tracer_facts.empty()) {
+        std::ifstream in(a.tracer_facts);
+        std::string key;
+        double value;
+        while (in >> key >> value) r.tracer_facts[key] = value;
     }
     return r;
 }
@@ -788,6 +846,7 @@ int main(int argc, char** argv) {
     std::cout << prose()("stdout", common);
     if (!a.md.empty()) std::ofstream(a.md) << full_report(r, a, common);
     if (!a.summary_md.empty()) std::ofstream(a.summary_md) << summary_report(a, common);
+    if (!a.render_md.empty()) std::ofstream(a.render_md) << render_speed(r);
     if (!a.plot_dir.empty() && !a.plot_png.empty()) {
         write_plot_data(r, a.plot_dir + "/trade.dat");
         write_plot_script(a.plot_dir + "/trade.gp", a.plot_png);

@@ -6,6 +6,8 @@
 #   docs/trade.md              the full report (date, compiler, flags, every table)
 #   docs/trade.png             time per query against wrong-verdict rate, per workload
 #   docs/tracer_vs_povray.png  the default scene, rayproof and POV-Ray side by side
+#   render/default.png         the default scene, certified, for render/README.md
+# and render/README.md's paragraph on speed, between <!-- speed:begin --> and <!-- speed:end -->,
 # and, when README.md holds the lines <!-- trade:begin --> and <!-- trade:end -->, the
 # summary (date, compiler, flags, the uniform table, the checks, the plot) between them.
 # Raw data (benchmark JSON, accuracy CSV, renders) stay in build/bench/trade/.
@@ -14,6 +16,9 @@
 #   TRADE_QUICK=1            a fast, low-precision run (smaller samples, fewer repetitions)
 #   TRADE_REPETITIONS=R      benchmark repetitions (default 5; the median is reported)
 #   TRADE_CASES=N            cases judged per (shape, type, workload) (default 131072)
+#   TRADE_ONLY=tracer        run the tracer stage alone and rebuild the report with the
+#                            other stages' raw data of the last full run (build/bench/trade/),
+#                            which the report's head then dates
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
 start_all=$(date +%s)
 install_missing
@@ -37,14 +42,29 @@ if [ "${TRADE_QUICK:-0}" = 1 ]; then
 fi
 TIMEFORMAT='%R %U %S'  # bash `time`: wall, user and system seconds
 
+ONLY="${TRADE_ONLY:-}"
+case "$ONLY" in
+  "" | tracer) ;;
+  *) echo "trade.sh: TRADE_ONLY must be empty or 'tracer', got '$ONLY'" >&2; exit 2 ;;
+esac
+if [ "$ONLY" = tracer ] && [ ! -s "$OUT/bench.json" ]; then
+  echo "trade.sh: TRADE_ONLY=tracer needs the raw data of a full run in build/bench/trade/" >&2
+  exit 2
+fi
+
 echo "== build (build/bench, g++ -O2)"
 t0=$(date +%s)
 configure_and_build bench g++ -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" -DBUILD_TESTING=OFF \
   -DRAYPROOF_BENCH=ON -DRAYPROOF_ORACLE=ON -DRAYPROOF_RENDER=ON
 echo "   built in $(( $(date +%s) - t0 )) s"
-rm -rf "$OUT"
+if [ "$ONLY" = tracer ]; then
+  earlier="$(date -u -r "$OUT/bench.json" '+%Y-%m-%d %H:%M UTC')"
+else
+  rm -rf "$OUT"
+fi
 mkdir -p "$OUT"
 B="$BUILD/bench"
+RP="$BUILD/tools/rayproof"
 
 # The flags the timed code was compiled with (the compile command of one benchmark file,
 # without include paths and file names).
@@ -53,6 +73,7 @@ flags=$(grep 'ray_aabb_bench.cpp' "$OUT/commands.txt" | head -1 | tr ' ' '\n' |
   grep -E '^-(O|f|m|D|std=|W)' | grep -v '^-D.*_HAVE_' | tr '\n' ' ' | sed 's/ $//' || true)
 compiler=$(g++ --version | head -1)
 
+if [ "$ONLY" != tracer ]; then
 echo "== timings ($REPS repetitions, median; log: build/bench/trade/bench.log)"
 t0=$(date +%s)
 # Random interleaving runs the repetitions of all benchmarks in a random order, so that a
@@ -69,22 +90,38 @@ t0=$(date +%s)
   --count_cases_uniform="$COUNT_UNIFORM" --watchdog=60 \
   --benchmark_out="$OUT/counters.json" --benchmark_out_format=json >"$OUT/counters.log" 2>&1
 echo "   $(( $(date +%s) - t0 )) s"
+fi
 
 echo "== tracer: rayproof render against POV-Ray (640x480, depth 5, 2 threads)"
 t0=$(date +%s)
 scene="$ROOT/render/scenes/default.json"
+# The ray tree's distance attenuation is off in every render compared with POV-Ray, which
+# lacks it (export-pov says what else it cannot write exactly: export.log).
 : >"$OUT/tracer.txt"
+: >"$OUT/tracer.cpu"
+: >"$OUT/tracer_facts.txt"
 for mode in fast conservative certified; do
-  t=$( { time "$BUILD/tools/rayproof" render "$scene" -o "$OUT/rayproof_$mode.png" --width 640 --height 480 \
-           --mode "$mode" --depth 5 --threads 2 -q >/dev/null 2>"$OUT/render_$mode.log"; } 2>&1 )
+  t=$( { time "$RP" render "$scene" -o "$OUT/rayproof_$mode.png" --width 640 --height 480 \
+           --mode "$mode" --depth 5 --threads 2 --no-tree-attenuation --stats -q >/dev/null 2>"$OUT/render_$mode.log"; } 2>&1 )
   echo "$mode $(echo "$t" | awk '{print $1}')" >>"$OUT/tracer.txt"
   echo "$mode-cpu $(echo "$t" | awk '{print $2 + $3}')" >>"$OUT/tracer.cpu"
+  # --stats: "rays: A primary, B shadow, C reflected, D refracted; ..." and "kernel queries: Q (...)"
+  awk -v m="$mode" '/^rays:/ { gsub(/[,;]/, ""); print "rays-" m, $2 + $4 + $6 + $8 }
+                    /^kernel queries:/ { print "queries-" m, $3 }' "$OUT/render_$mode.log" >>"$OUT/tracer_facts.txt"
 done
-"$BUILD/tools/rayproof" export-pov "$scene" --width 640 --height 480 >"$OUT/scene.pov"
-t=$( { time (cd "$OUT" && povray +Iscene.pov +Opovray.png +W640 +H480 -D -A +WT2 >povray.log 2>&1); } 2>&1 )
+"$RP" export-pov "$scene" --width 640 --height 480 --no-tree-attenuation >"$OUT/scene.pov" 2>"$OUT/export.log"
+echo "parity-inexact $(grep -c 'not exact' "$OUT/export.log" || true)" >>"$OUT/tracer_facts.txt"
+t=$( { time (cd "$OUT" && povray +Iscene.pov +Opovray.png +W640 +H480 -D -A +WT2 File_Gamma=1.0 >povray.log 2>&1); } 2>&1 )
 echo "povray $(echo "$t" | awk '{print $1}')" >>"$OUT/tracer.txt"
 echo "povray-cpu $(echo "$t" | awk '{print $2 + $3}')" >>"$OUT/tracer.cpu"
 cat "$OUT/tracer.cpu" >>"$OUT/tracer.txt"
+# "mean absolute difference X/255 per channel; largest Y/255; N of M pixels differ; PSNR ..."
+"$RP" compare "$OUT/rayproof_certified.png" "$OUT/povray.png" >"$OUT/compare.txt"
+sed -E 's|^mean absolute difference ([0-9.]+)/255 per channel; largest ([0-9]+)/255; ([0-9]+) of ([0-9]+) pixels.*|parity-mean \1\nparity-max \2\nparity-differing \3\nparity-pixels \4|' \
+  "$OUT/compare.txt" >>"$OUT/tracer_facts.txt"
+echo "   POV-Ray against rayproof: $(cat "$OUT/compare.txt")"
+# The tracer's own picture in render/README.md: the default scene as it is, certified.
+"$RP" render "$scene" -o "$ROOT/render/default.png" --width 640 --height 480 --mode certified --threads 2 -q
 rayproof_s=$(awk '$1 == "certified" {print $2}' "$OUT/tracer.txt")
 povray_s=$(awk '$1 == "povray" {print $2}' "$OUT/tracer.txt")
 gnuplot <<EOF
@@ -103,6 +140,7 @@ unset multiplot
 EOF
 echo "   $(( $(date +%s) - t0 )) s"
 
+if [ "$ONLY" != tracer ]; then
 echo "== accuracy: the oracle's judgement of the same cases ($CASES per workload) and the audit"
 t0=$(date +%s)
 "$B/rayproof_trade_accuracy" --cases "$CASES" --cgal-cases "$CGAL_CASES" --timeout 60 \
@@ -118,12 +156,19 @@ if [ -x "$audit" ]; then
     echo "   (the audit did not finish: see $OUT/audit.log)"
 fi
 echo "   $(( $(date +%s) - t0 )) s"
+fi
 
 echo "== report"
+stages_meta=()
+if [ "$ONLY" = tracer ]; then
+  stages_meta=(--meta "stages=the tracer's section from this run; every other table from the full run of $earlier")
+fi
 "$B/rayproof_trade_report" --bench "$OUT/bench.json" --counters "$OUT/counters.json" \
   --accuracy "$OUT/accuracy_boxes.csv" --accuracy "$OUT/accuracy_sphere.csv" --tracer "$OUT/tracer.txt" \
   $( [ -s "$OUT/audit.md" ] && echo --audit "$OUT/audit.md" ) \
+  --tracer-facts "$OUT/tracer_facts.txt" --render-md "$OUT/render_speed.md" \
   --meta "date=$(date -u +%Y-%m-%d)" --meta "compiler=$compiler" --meta "flags=$flags" \
+  "${stages_meta[@]}" \
   --meta "samples=$CASES cases judged per (shape, type, workload), the first $(grep -o '"cases": "[0-9]*"' "$OUT/bench.json" | grep -o '[0-9]*') of them timed; CGAL: the first $CGAL_CASES judged; $REPS repetitions of each timing" \
   --md "$DOCS/trade.md" --plot-dir "$OUT" --plot-png "$DOCS/trade.png" --plot-ref trade.png \
   --tracer-png tracer_vs_povray.png --summary-md "$OUT/summary.md"
@@ -137,6 +182,15 @@ if grep -q '^<!-- trade:begin -->' "$readme" && grep -q '^<!-- trade:end -->' "$
     !skip' "$readme" >"$OUT/README.md" && cp "$OUT/README.md" "$readme"
   echo "updated the trade summary in README.md"
 fi
+# render/README.md's paragraph on speed, between its markers.
+rreadme="$ROOT/render/README.md"
+if [ -s "$OUT/render_speed.md" ] && grep -q '^<!-- speed:begin -->' "$rreadme" && grep -q '^<!-- speed:end -->' "$rreadme"; then
+  awk -v f="$OUT/render_speed.md" '
+    /^<!-- speed:begin -->/ { print; while ((getline line < f) > 0) print line; skip = 1; next }
+    /^<!-- speed:end -->/ { skip = 0 }
+    !skip' "$rreadme" >"$OUT/render_README.md" && cp "$OUT/render_README.md" "$rreadme"
+  echo "updated the speed paragraph and the picture in render/README.md"
+fi
 echo
-echo "wrote docs/trade.md, docs/trade.png, docs/tracer_vs_povray.png (raw data: build/bench/trade/)"
+echo "wrote docs/trade.md, docs/trade.png, docs/tracer_vs_povray.png, render/default.png (raw data: build/bench/trade/)"
 echo "trade.sh took $(( $(date +%s) - start_all )) s"
