@@ -9,6 +9,8 @@
 //     not scale. (The box's top face lies on a coordinate plane: o + t·d rounds exactly
 //     onto it there, so it shows none — but with t_min = 0 every shadow ray starts on
 //     the closed box and all its pixels are shadowed.)
+//   the far side: a translucent sheet lit from behind sends its shadow rays from the
+//     side the eye does not see; none is blocked either.
 //   naive t_min = 0 near the origin: acne on every surface in the fast and certified
 //     modes. (Not asserted for conservative: its t_enter is a lower bound, which puts
 //     the computed point in front of the surface.)
@@ -145,6 +147,27 @@ std::vector<Case> cases() {
 INSTANTIATE_TEST_SUITE_P(Surfaces, ShadowAcne, ::testing::ValuesIn(cases()), [](const auto& info) {
     return std::string(name(info.param.surface)) + "_" + mode_name(info.param.mode);
 });
+
+// The far side: a translucent sheet (the tilted plane) lit only from below, so every
+// shadow ray leaves on the side the eye does not see. With the error-bound offset none
+// finds its light blocked, near the origin and at 2^42, in every mode.
+class FarSideAcne : public ::testing::TestWithParam<Mode> {};
+
+TEST_P(FarSideAcne, TranslucentSheetLitFromBehindHasNone) {
+    for (const Vec3d& at : {Vec3d::Zero().eval(), Vec3d::Constant(0x1p42).eval()}) {
+        SCOPED_TRACE(at.x());
+        Scene s = lit_surface(Surface::plane, GetParam(), at);
+        s.lights[0].position = at + Vec3d(-1, -8, 2);
+        s.materials[0].translucency = 1;
+        const Acne a = count(s, TraceOptions{});
+        EXPECT_GT(a.surface, W * H / 2);
+        EXPECT_EQ(a.shadowed, 0);
+        EXPECT_EQ(a.speckles, 0);
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, FarSideAcne, ::testing::ValuesIn(every_mode()),
+                         [](const auto& info) { return std::string(mode_name(info.param)); });
 
 }  // namespace
 }  // namespace rayproof::render::testing

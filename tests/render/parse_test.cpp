@@ -18,7 +18,7 @@ namespace {
 const char* const minimal = R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]}, "objects": []})";
 
 TEST(SceneFiles, ExampleScenesParse) {
-    for (const char* name : {"default.json", "cube.json", "hostile.json"}) {
+    for (const char* name : {"default.json", "cube.json", "hostile.json", "notes.json"}) {
         const ParseResult r = load_scene(scene_path(name));
         EXPECT_TRUE(r) << r.error.to_string();
     }

@@ -56,7 +56,7 @@ TEST_P(Threads, OneAndFourGiveTheSameImageAndCounts) {
 
 std::vector<Case> cases() {
     std::vector<Case> v;
-    for (const char* s : {"default", "cube", "hostile"})
+    for (const char* s : {"default", "cube", "hostile", "notes"})
         for (Mode m : every_mode()) v.push_back({s, m});
     return v;
 }
