@@ -50,11 +50,11 @@ public:
     // parent, the ray's origin (scene.hpp); the background is no node and is not weighed.
     Color trace(const Rayd& ray, int depth, double weight) {
         const Candidate c = closest(ray);
-        const int bulb = nearest_bulb(ray, c.t);
-        if (c.object < 0 && bulb < 0) return s_.settings.background;
-        const double t = bulb >= 0 ? bulb_t_ : c.t;
+        const BulbHit bulb = nearest_bulb(ray, c.t);
+        if (c.object < 0 && bulb.light < 0) return s_.settings.background;
+        const double t = bulb.light >= 0 ? bulb.t : c.t;
         const double f = depth > 1 ? s_.tree_attenuation.factor(t * ray.direction.norm()) : 1;
-        if (bulb >= 0) return f * s_.lights[std::size_t(bulb)].color;
+        if (bulb.light >= 0) return f * s_.lights[std::size_t(bulb.light)].color;
         return f * shade(ray, c, depth, weight * f);
     }
 
@@ -96,12 +96,17 @@ private:
     }
 
     // The visible light whose sphere the ray meets first, before t_limit (the closest
-    // object's t), or -1; its t in bulb_t_. A ray starting inside a light's sphere sees it.
-    int nearest_bulb(const Rayd& ray, double t_limit) {
-        int best = -1;
+    // object's t), and where; light -1 if none. A ray starting inside a light's sphere
+    // sees it.
+    struct BulbHit {
+        int light = -1;
+        double t = inf;
+    };
+    BulbHit nearest_bulb(const Rayd& ray, double t_limit) {
+        BulbHit best{-1, t_limit};
         for (const Bulb& b : bulbs_) {
             const Hitd h = query(ray, Shape(b.sphere));
-            if (h && h.t_enter < t_limit) best = b.light, t_limit = bulb_t_ = h.t_enter;
+            if (h && h.t_enter < best.t) best = {b.light, h.t_enter};
         }
         return best;
     }
@@ -352,7 +357,6 @@ private:
     const TraceOptions& opt_;
     Stats& st_;
     std::vector<Bulb> bulbs_;  // the visible lights
-    double bulb_t_ = inf;      // nearest_bulb's t
 };
 
 template <class M> Color pixel(Tracer<M>& tr, const Scene& s, int x, int y, Stats& st) {
