@@ -16,10 +16,6 @@ class Lighting : public ::testing::TestWithParam<Mode> {};
 constexpr int side = 5;
 constexpr double centre = 2.5;
 
-void expect_color(const Color& got, const Color& want, double tol = 1e-12) {
-    for (int i = 0; i < 3; ++i) EXPECT_NEAR(got[i], want[i], tol) << "channel " << i;
-}
-
 Material lit_material(Highlight h) {
     Material m;
     m.ambient = Color(0.1, 0.2, 0.3);

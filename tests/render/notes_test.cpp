@@ -18,10 +18,6 @@ class Notes : public ::testing::TestWithParam<Mode> {};
 constexpr int side = 5;
 constexpr double centre = 2.5;
 
-void expect_color(const Color& got, const Color& want, double tol = 1e-12) {
-    for (int i = 0; i < 3; ++i) EXPECT_NEAR(got[i], want[i], tol) << "channel " << i;
-}
-
 Scene looking_at_minus_z(Mode mode) { return scene_with(Camera{{0, 0, 0}, {0, 0, -1}, {0, 1, 0}, 40}, side, side, mode); }
 
 // A mirror plane z = -3 facing the eye and, behind the eye, a wall z = 2 that shows only its

@@ -52,6 +52,12 @@ inline ::testing::AssertionResult same_color(const Color& a, const Color& b) {
     return ::testing::AssertionFailure() << "(" << a.transpose() << ") != (" << b.transpose() << ")";
 }
 
+// Every channel of got within tol of want (an absolute tolerance: the hand-worked colours
+// of the lighting tests are O(1), and 1e-12 leaves room for a few roundings).
+inline void expect_color(const Color& got, const Color& want, double tol = 1e-12) {
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(got[i], want[i], tol) << "channel " << i;
+}
+
 inline Material matte(Color kd, Color ka = Color::Zero()) {
     Material m;
     m.diffuse = kd;
