@@ -15,7 +15,6 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <string>
@@ -172,15 +171,27 @@ int run_export(const Args& a) {
     const std::optional<Scene> scene = load(a, "export-pov");
     if (!scene) return 1;
     const std::string text = export_pov(*scene, a.scene);
+    // Both the write and the flush (or close) are checked: on a full disk the data often
+    // goes into stdio's buffer and only the flush fails.
+    errno = 0;
     if (a.output.empty()) {
-        std::fwrite(text.data(), 1, text.size(), stdout);
-        return std::fflush(stdout) == 0 ? 0 : 1;
+        if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0) {
+            std::fprintf(stderr, "rayproof export-pov: cannot write to standard output: %s\n",
+                         std::strerror(errno != 0 ? errno : EIO));
+            return 1;
+        }
+        return 0;
     }
-    std::ofstream out(a.output, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) {
-        std::fprintf(stderr, "rayproof export-pov: cannot write '%s'\n", a.output.c_str());
+    std::FILE* f = std::fopen(a.output.c_str(), "wb");
+    if (!f) {
+        std::fprintf(stderr, "rayproof export-pov: cannot open '%s': %s\n", a.output.c_str(), std::strerror(errno));
+        return 1;
+    }
+    const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    const int error = errno;
+    errno = 0;
+    if (std::fclose(f) != 0 || !written) {
+        std::fprintf(stderr, "rayproof export-pov: %s\n", cannot_write(a.output, written ? errno : error).c_str());
         return 1;
     }
     return 0;

@@ -2,13 +2,15 @@
 // the size asked for, option overrides, --diff between two modes, exit statuses for
 // usage errors (2, with a message naming the option) and for bad scenes or files (1),
 // and --help; the output path checked before any ray is traced (and no file left behind
-// by the check), and a directory as the scene.
+// by the check), a directory as the scene, and write failures on a full device (/dev/full)
+// reported with their reason, for images, the POV-Ray file and standard output.
 #include "render_support.hpp"
 
 #include <rayproof/cli.hpp>
 #include <rayproof/render/cli.hpp>
 
 #include <fcntl.h>
+#include <stdio_ext.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -45,6 +47,31 @@ std::pair<int, std::string> render_err(std::vector<std::string> args) {
     ::testing::internal::CaptureStderr();
     const int status = render_cmd(std::move(args));
     return {status, ::testing::internal::GetCapturedStderr()};
+}
+
+std::pair<int, std::string> run_err(std::vector<std::string> args) {
+    ::testing::internal::CaptureStderr();
+    const int status = run(std::move(args));
+    return {status, ::testing::internal::GetCapturedStderr()};
+}
+
+// run(args) with the standard output sent to `device`; what could not be written is dropped.
+int run_with_stdout_on(const char* device, std::vector<std::string> args) {
+    std::fflush(stdout);
+    const int saved = ::dup(STDOUT_FILENO);
+    const int fd = ::open(device, O_WRONLY);
+    if (saved < 0 || fd < 0) {
+        ADD_FAILURE() << "cannot redirect the standard output to " << device << ": " << std::strerror(errno);
+        return -1;
+    }
+    ::dup2(fd, STDOUT_FILENO);
+    ::close(fd);
+    const int status = run(std::move(args));
+    __fpurge(stdout);
+    ::dup2(saved, STDOUT_FILENO);
+    ::close(saved);
+    std::clearerr(stdout);
+    return status;
 }
 
 std::string reason(int error) { return std::strerror(error); }
@@ -209,6 +236,37 @@ TEST(Cli, ADirectoryAsTheSceneSaysSo) {
     const auto [status, err] = render_err({dir, "-o", scratch("x.png")});
     EXPECT_EQ(status, 1);
     EXPECT_EQ(err, "rayproof render: " + dir + ": is a directory, not a scene file\n");
+}
+
+// A full device: every writer reports "No space left on device" and exits 1.
+TEST(Cli, WriteFailuresSayWhy) {
+    if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+    const std::string full = reason(ENOSPC);
+    auto [status, err] = run_err({"export-pov", scene_path("default.json"), "-o", "/dev/full"});
+    EXPECT_EQ(status, 1);
+    EXPECT_EQ(err, "rayproof export-pov: cannot write '/dev/full': " + full + "\n");
+
+    ::testing::internal::CaptureStderr();
+    status = run_with_stdout_on("/dev/full", {"export-pov", scene_path("default.json")});
+    err = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(status, 1);
+    EXPECT_EQ(err, "rayproof export-pov: cannot write to standard output: " + full + "\n");
+
+    const std::filesystem::path dir = scratch("full");
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directory(dir);
+    for (const char* name : {"full.png", "full.ppm"}) {
+        const std::string link = (dir / name).string();
+        std::filesystem::create_symlink("/dev/full", link);
+        for (bool diff : {false, true}) {
+            std::vector<std::string> args = {scene_path("cube.json"), "-o", link, "--width", "64", "--height", "48"};
+            if (diff) args.insert(args.end(), diff_args.begin(), diff_args.end());
+            std::tie(status, err) = render_err(args);
+            EXPECT_EQ(status, 1) << link;
+            EXPECT_EQ(err, "rayproof render: cannot write '" + link + "': " + full + "\n");
+        }
+    }
+    std::filesystem::remove_all(dir);
 }
 
 TEST(Cli, ExportPovWritesAFile) {
