@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -393,7 +394,8 @@ Scene read_scene(const json& root) {
 // order before it stopped), so it needs to tell apart only strings, numbers, literals
 // and brackets, and it keeps the key path of the value it is in exactly as the schema
 // errors write it (join_path, "[i]" for an array element). Should it ever fall out of
-// step with the text, it throws OutOfStep and the error is reported without a position.
+// step with the text, it throws OutOfStep and stops: a duplicate key
+// found so far is reported, and an error gets the deepest position found so far.
 struct OutOfStep {};
 
 class Text {
@@ -493,6 +495,8 @@ public:
         try {
             value();
         } catch (const Stop&) {
+        } catch (const OutOfStep&) {  // never seen; what was found so far stands
+        } catch (const json::exception&) {
         }
         return found_;
     }
@@ -592,7 +596,8 @@ public:
                 return x_.pos();
             }
             value(std::string_view::npos);
-        } catch (const OutOfStep&) {
+        } catch (const OutOfStep&) {  // never seen; the deepest value found so far stands
+        } catch (const json::exception&) {
         }
         return best_;
     }

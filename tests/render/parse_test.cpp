@@ -274,6 +274,23 @@ INSTANTIATE_TEST_SUITE_P(Classes, BadScene, ::testing::ValuesIn(bad_cases), [](c
     return n;
 });
 
+// The scan for duplicate keys keeps in step with real scene files to their last byte: a
+// key given twice just before the final brace of each example scene is found there.
+TEST(SceneFiles, DuplicateKeyAtTheEndOfEveryExampleIsFound) {
+    for (const char* name : {"default.json", "cube.json", "hostile.json"}) {
+        std::ifstream in(scene_path(name), std::ios::binary);
+        std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        const std::size_t end = text.rfind('}');
+        ASSERT_NE(end, std::string::npos) << name;
+        const std::string second = "\"zz\": [{\"a\": \"}\\\"\"}]";
+        text.insert(end, ", \"zz\": 1,\n " + second + "\n");
+        const ParseResult r = parse_scene(text, name);
+        ASSERT_FALSE(r) << name;
+        EXPECT_EQ(r.error.key, "zz") << r.error.to_string();
+        EXPECT_EQ(text_at(text, r.error, second.size()), second) << r.error.to_string();
+    }
+}
+
 TEST(SceneFiles, MissingFileIsAnIoError) {
     const ParseResult r = load_scene("/nonexistent/dir/scene.json");
     ASSERT_FALSE(r);
