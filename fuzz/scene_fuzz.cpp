@@ -2,7 +2,7 @@
 // on arbitrary bytes. Every input must give either a scene or a clear error, never a
 // crash, an exception, a hang or a leak:
 //   error  a non-empty message; syntax errors carry a 1-based line and column, schema
-//          errors the path of the offending key
+//          errors the path of the offending key and a 1-based line and column
 //   scene  every material index in range, every shape valid for the kernel (its queries
 //          never answer `invalid` for a valid ray), a finite camera, settings within the
 //          documented limits; then a few primary rays of the scene are traced (2×2 pixels,
@@ -53,6 +53,8 @@ void check_error(const ParseError& e, std::string_view text) {
     if (e.message.empty() || shown.empty()) fail("error without a message", text, shown);
     if (e.kind == ParseError::Kind::syntax && (e.line < 1 || e.column < 1)) fail("syntax error without a position", text, shown);
     if (e.kind == ParseError::Kind::schema && e.key.empty()) fail("schema error without a key", text, shown);
+    if (e.kind == ParseError::Kind::schema && (e.line < 1 || e.column < 1))
+        fail("schema error without a position", text, shown);
     if (e.kind == ParseError::Kind::io) fail("io error from parse_scene", text, shown);
 }
 

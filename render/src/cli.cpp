@@ -8,10 +8,13 @@
 
 #include <rayproof/cli.hpp>
 
+#include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
-#include <fstream>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <string>
@@ -76,6 +79,36 @@ std::optional<Scene> load(const Args& a, const char* cmd) {
     return s;
 }
 
+std::string cannot_write(const std::string& path, int error) {
+    return "cannot write '" + path + "': " + std::strerror(error != 0 ? error : EIO);
+}
+
+// "" when `path` can be opened for writing, else "cannot write 'PATH': reason". Run before
+// rendering, so that a mistyped output path does not cost a render. An existing file (or
+// a character device such as /dev/null or /dev/full) is opened without truncating it; a
+// new one is created and removed again, so the check leaves nothing behind. A fifo is
+// opened without blocking: with no reader waiting, it fails at once (ENXIO).
+std::string check_output(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0) {
+        if (S_ISDIR(st.st_mode)) return cannot_write(path, EISDIR);
+        const int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+        if (fd < 0) return cannot_write(path, errno);
+        ::close(fd);
+        return "";
+    }
+    if (errno != ENOENT) return cannot_write(path, errno);  // e.g. a part of the path is a file
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC | O_NOCTTY, 0666);
+    if (fd < 0) {
+        // A dangling symbolic link, or a file created since stat: the write will tell.
+        if (errno == EEXIST) return "";
+        return cannot_write(path, errno);
+    }
+    ::close(fd);
+    ::unlink(path.c_str());
+    return "";
+}
+
 void print_stats(const Stats& st) {
     std::fprintf(stderr,
                  "rays: %llu primary, %llu shadow, %llu reflected, %llu refracted; %llu not traced (below "
@@ -86,6 +119,10 @@ void print_stats(const Stats& st) {
 }
 
 int run_render(const Args& a) {
+    if (const std::string e = check_output(a.output); !e.empty()) {
+        std::fprintf(stderr, "rayproof render: %s\n", e.c_str());
+        return 1;
+    }
     std::optional<Scene> scene = load(a, "render");
     if (!scene) return 1;
 
@@ -140,15 +177,27 @@ int run_export(const Args& a) {
     const PovScene pov = to_pov(*scene, a.scene);
     for (const std::string& line : pov.inexact) std::fprintf(stderr, "rayproof export-pov: not exact: %s\n", line.c_str());
     const std::string& text = pov.text;
+    // Both the write and the flush (or close) are checked: on a full disk the data often
+    // goes into stdio's buffer and only the flush fails.
+    errno = 0;
     if (a.output.empty()) {
-        std::fwrite(text.data(), 1, text.size(), stdout);
-        return std::fflush(stdout) == 0 ? 0 : 1;
+        if (std::fwrite(text.data(), 1, text.size(), stdout) != text.size() || std::fflush(stdout) != 0) {
+            std::fprintf(stderr, "rayproof export-pov: cannot write to standard output: %s\n",
+                         std::strerror(errno != 0 ? errno : EIO));
+            return 1;
+        }
+        return 0;
     }
-    std::ofstream out(a.output, std::ios::binary);
-    out << text;
-    out.close();
-    if (!out) {
-        std::fprintf(stderr, "rayproof export-pov: cannot write '%s'\n", a.output.c_str());
+    std::FILE* f = std::fopen(a.output.c_str(), "wb");
+    if (!f) {
+        std::fprintf(stderr, "rayproof export-pov: cannot open '%s': %s\n", a.output.c_str(), std::strerror(errno));
+        return 1;
+    }
+    const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+    const int error = errno;
+    errno = 0;
+    if (std::fclose(f) != 0 || !written) {
+        std::fprintf(stderr, "rayproof export-pov: %s\n", cannot_write(a.output, written ? errno : error).c_str());
         return 1;
     }
     return 0;

@@ -33,8 +33,8 @@ struct FileCloser {
 };
 using File = std::unique_ptr<std::FILE, FileCloser>;
 
-std::string os_error(const std::string& what, const std::string& path) {
-    return what + " '" + path + "': " + std::strerror(errno);
+std::string os_error(const std::string& what, const std::string& path, int error = errno) {
+    return what + " '" + path + "': " + std::strerror(error != 0 ? error : EIO);
 }
 
 // libpng reports errors through longjmp; these handlers keep it inside this file.
@@ -65,10 +65,13 @@ std::string write_image(const Image& img, const std::string& path) {
     return "cannot tell the image format of '" + path + "': use a .png or .ppm file name";
 }
 
+// Every write, and the close that flushes the last buffer, is checked: a full disk shows
+// only there ("cannot write 'PATH': No space left on device").
 std::string write_ppm(const Image& img, const std::string& path) {
     File f(std::fopen(path.c_str(), "wb"));
     if (!f) return os_error("cannot open", path);
-    std::fprintf(f.get(), "P6\n%d %d\n255\n", img.width, img.height);
+    errno = 0;
+    if (std::fprintf(f.get(), "P6\n%d %d\n255\n", img.width, img.height) < 0) return os_error("cannot write", path);
     if (std::fwrite(img.rgb.data(), 1, img.rgb.size(), f.get()) != img.rgb.size()) return os_error("cannot write", path);
     if (std::fclose(f.release()) != 0) return os_error("cannot write", path);
     return "";
@@ -76,11 +79,34 @@ std::string write_ppm(const Image& img, const std::string& path) {
 
 namespace {
 
+// libpng's output, through stdio, keeping the errno of a failed write or flush (libpng's
+// own writer reports only "Write Error").
+struct PngOutput {
+    std::FILE* f;
+    int error = 0;
+};
+void png_write_fn(png_structp png, png_bytep data, png_size_t n) {
+    auto* out = static_cast<PngOutput*>(png_get_io_ptr(png));
+    errno = 0;
+    if (std::fwrite(data, 1, n, out->f) != n) {
+        out->error = errno != 0 ? errno : EIO;
+        png_error(png, "write failed");
+    }
+}
+void png_flush_fn(png_structp png) {
+    auto* out = static_cast<PngOutput*>(png_get_io_ptr(png));
+    errno = 0;
+    if (std::fflush(out->f) != 0) {
+        out->error = errno != 0 ? errno : EIO;
+        png_error(png, "write failed");
+    }
+}
+
 // The setjmp frames below hold only pointers and plain values that are not modified
 // after setjmp, so a libpng error (longjmp) leaves nothing indeterminate.
-bool png_write_rows(png_structp png, png_infop info, std::FILE* f, const Image* img) {
+bool png_write_rows(png_structp png, png_infop info, PngOutput* out, const Image* img) {
     if (setjmp(png_jmpbuf(png))) return false;
-    png_init_io(png, f);
+    png_set_write_fn(png, out, png_write_fn, png_flush_fn);
     png_set_IHDR(png, info, png_uint_32(img->width), png_uint_32(img->height), 8, PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_write_info(png, info);
@@ -118,9 +144,12 @@ std::string write_png(const Image& img, const std::string& path) {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, png_error_fn, png_warning_fn);
     if (!png) return "cannot write '" + path + "': out of memory";
     png_infop info = png_create_info_struct(png);
-    const bool ok = info && png_write_rows(png, info, f.get(), &img);
+    PngOutput out{f.get()};
+    const bool ok = info && png_write_rows(png, info, &out, &img);
     png_destroy_write_struct(&png, &info);
+    if (!ok && out.error != 0) return os_error("cannot write", path, out.error);
     if (!ok) return "cannot write '" + path + "': " + (err.empty() ? "libpng error" : err);
+    errno = 0;
     if (std::fclose(f.release()) != 0) return os_error("cannot write", path);
     return "";
 }

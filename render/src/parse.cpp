@@ -1,18 +1,31 @@
 // Scene files: JSON text to Scene. Syntax errors come from nlohmann-json (with the line
 // and column computed from its byte offset); the schema is checked here, key by key,
-// so that every error names the key path and what was expected. Nothing escapes
-// parse_scene: every exception is caught and turned into a ParseError.
+// so that every error names the key path and what was expected. Duplicate keys, which
+// nlohmann-json accepts (the last one winning), are found by a scan of the accepted
+// text, and the line and column of a schema error come from a walk of the text along
+// its key path (both in the Text scanner below). Nothing escapes parse_scene: every
+// exception is caught and turned into a ParseError.
 #include <rayproof/render/parse.hpp>
 
 #include <nlohmann/json.hpp>
 
 #include <Eigen/Geometry>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
-#include <fstream>
+#include <cstdlib>
+#include <cstring>
 #include <initializer_list>
 #include <map>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 namespace rayproof::render {
 
@@ -26,13 +39,19 @@ constexpr double max_magnitude = 1e100;
 constexpr int max_nesting = 64;
 constexpr int max_image_side = 16384;
 constexpr long long max_pixels = 1LL << 26;
+// The largest scene file load_scene reads: 100,000 objects take 15 to 20 MB of JSON.
+constexpr long long max_scene_bytes = 64'000'000;
 
 struct SchemaError {
     std::string key;
     std::string message;
+    bool at_key = false;  // the position to report is the key's, not its value's (an unknown key)
 };
 
 [[noreturn]] void fail(const std::string& key, const std::string& message) { throw SchemaError{key, message}; }
+[[noreturn]] void fail_at_key(const std::string& key, const std::string& message) {
+    throw SchemaError{key, message, true};
+}
 
 std::string type_name(const json& j) {
     switch (j.type()) {
@@ -71,7 +90,7 @@ public:
             if (!ok) {
                 std::string list;
                 for (const char* a : allowed) list += std::string(list.empty() ? "" : ", ") + a;
-                fail(join_path(path_, item.key()), "unknown key (expected one of: " + list + ")");
+                fail_at_key(join_path(path_, item.key()), "unknown key (expected one of: " + list + ")");
             }
         }
     }
@@ -357,7 +376,7 @@ Scene read_scene(const json& root) {
         if (!ms.is_object()) fail("materials", "expected an object mapping names to materials, got " + type_name(ms));
         for (const auto& item : ms.items()) {
             by_name[item.key()] = int(s.materials.size());
-            s.materials.push_back(read_material(item.value(), "materials." + item.key(), item.key()));
+            s.materials.push_back(read_material(item.value(), join_path("materials", item.key()), item.key()));
         }
     }
     const json& os = top.get("objects");
@@ -392,14 +411,295 @@ Scene read_scene(const json& root) {
     return s;
 }
 
+// The text scanner. It walks JSON text that nlohmann-json has accepted (all of it, or,
+// after a number overflow, the prefix up to that number, which nlohmann-json read in
+// order before it stopped), so it needs to tell apart only strings, numbers, literals
+// and brackets, and it keeps the key path of the value it is in exactly as the schema
+// errors write it (join_path, "[i]" for an array element). Should it ever fall out of
+// step with the text, it throws OutOfStep and stops: a duplicate key
+// found so far is reported, and an error gets the deepest position found so far.
+struct OutOfStep {};
+
+class Text {
+public:
+    explicit Text(std::string_view t) : t_(t) {
+        if (t_.substr(0, 3) == "\xEF\xBB\xBF") pos_ = 3;  // nlohmann-json skips a UTF-8 byte-order mark
+    }
+    std::size_t pos() const { return pos_; }
+    // The next character that is not JSON white space ('\0' at the end); the position moves onto it.
+    char peek() {
+        while (pos_ < t_.size() && (t_[pos_] == ' ' || t_[pos_] == '\t' || t_[pos_] == '\n' || t_[pos_] == '\r'))
+            ++pos_;
+        return pos_ < t_.size() ? t_[pos_] : '\0';
+    }
+    void expect(char c) {
+        if (peek() != c) throw OutOfStep{};
+        ++pos_;
+    }
+    // A string, quotes included; the position moves past it.
+    std::string_view string_token() {
+        const std::size_t begin = pos_;
+        expect('"');
+        while (pos_ < t_.size() && t_[pos_] != '"') pos_ += t_[pos_] == '\\' ? 2 : 1;
+        if (pos_ >= t_.size()) throw OutOfStep{};
+        ++pos_;
+        return t_.substr(begin, pos_ - begin);
+    }
+    // A number or a literal (true, false, null).
+    std::string_view scalar_token() {
+        peek();
+        const std::size_t begin = pos_;
+        while (pos_ < t_.size() && (std::isalnum(static_cast<unsigned char>(t_[pos_])) || t_[pos_] == '-' ||
+                                    t_[pos_] == '+' || t_[pos_] == '.'))
+            ++pos_;
+        if (pos_ == begin) throw OutOfStep{};
+        return t_.substr(begin, pos_ - begin);
+    }
+    void skip_value() {
+        const char c = peek();
+        if (c == '"') {
+            string_token();
+        } else if (c == '{' || c == '[') {
+            int depth = 0;
+            do {
+                const char d = peek();
+                if (d == '"') {
+                    string_token();
+                    continue;
+                }
+                if (d == '\0') throw OutOfStep{};
+                if (d == '{' || d == '[') ++depth;
+                else if (d == '}' || d == ']') --depth;
+                ++pos_;
+            } while (depth > 0);
+        } else {
+            scalar_token();
+        }
+    }
+
+private:
+    std::string_view t_;
+    std::size_t pos_ = 0;
+};
+
+// The key a string token stands for: its bytes, or nlohmann-json's reading of its escapes.
+std::string key_of(std::string_view token) {
+    const std::string_view inner = token.substr(1, token.size() - 2);
+    if (inner.find('\\') == std::string_view::npos) return std::string(inner);
+    return json::parse(token).get<std::string>();
+}
+
+void append_key(std::string& path, const std::string& key) {
+    if (!path.empty()) path += '.';
+    path += key.empty() ? "\"\"" : key;
+}
+
+void append_index(std::string& path, std::size_t i) {
+    path += '[';
+    path += std::to_string(i);
+    path += ']';
+}
+
+// What the scan looks for: the earliest second occurrence of a key in an object (nlohmann-json
+// keeps the last value without a word), or the first number that overflows a double.
+struct Finding {
+    std::string path;
+    std::size_t at = 0;     // byte offset of the second key, or of the number
+    std::size_t first = 0;  // duplicate keys: byte offset of the first occurrence
+    std::string token;      // the number as written
+};
+
+class Scan {
+public:
+    enum class Find { duplicate_key, overflowing_number };
+    Scan(std::string_view text, Find find) : x_(text), find_(find) {}
+    std::optional<Finding> run() {
+        try {
+            value();
+        } catch (const Stop&) {
+        } catch (const OutOfStep&) {  // never seen; what was found so far stands
+        } catch (const json::exception&) {
+        }
+        return found_;
+    }
+
+private:
+    struct Stop {};
+
+    void value() {
+        const char c = x_.peek();
+        if (c == '{') object();
+        else if (c == '[') array();
+        else if (c == '"') x_.string_token();
+        else number_or_literal();
+    }
+    void number_or_literal() {
+        const std::size_t at = x_.pos();
+        const std::string_view tok = x_.scalar_token();
+        if (find_ != Find::overflowing_number || !(tok[0] == '-' || std::isdigit(static_cast<unsigned char>(tok[0]))))
+            return;
+        // nlohmann-json reads a number with strtod (an integer too large for 64 bits as well)
+        // and rejects it when the result is not finite.
+        if (std::isfinite(std::strtod(std::string(tok).c_str(), nullptr))) return;
+        found_ = Finding{path_.empty() ? "(top level)" : path_, at, 0, std::string(tok)};
+        throw Stop{};
+    }
+    void object() {
+        const std::size_t len = path_.size();
+        // Each key and its byte offset; one list per nesting depth, reused from object to object.
+        // (Indexed, not held by reference: a nested object may grow keys_.)
+        const std::size_t d = depth_++;
+        if (keys_.size() <= d) keys_.resize(d + 1);
+        keys_[d].clear();
+        x_.expect('{');
+        if (x_.peek() != '}') {
+            for (;;) {
+                x_.peek();
+                const std::size_t at = x_.pos();
+                std::string key = key_of(x_.string_token());
+                x_.expect(':');
+                path_.resize(len);
+                append_key(path_, key);
+                value();
+                if (find_ == Find::duplicate_key) keys_[d].emplace_back(std::move(key), at);
+                if (x_.peek() != ',') break;
+                x_.expect(',');
+            }
+        }
+        x_.expect('}');
+        --depth_;
+        path_.resize(len);
+        auto& keys = keys_[d];
+        if (keys.size() < 2) return;
+        std::sort(keys.begin(), keys.end());  // by key, then by position
+        for (std::size_t i = 1; i < keys.size(); ++i)
+            if (keys[i].first == keys[i - 1].first && (!found_ || keys[i].second < found_->at)) {
+                std::string path = path_;
+                append_key(path, keys[i].first);
+                found_ = Finding{std::move(path), keys[i].second, keys[i - 1].second, ""};
+            }
+    }
+    void array() {
+        const std::size_t len = path_.size();
+        x_.expect('[');
+        if (x_.peek() != ']') {
+            for (std::size_t i = 0;; ++i) {
+                path_.resize(len);
+                append_index(path_, i);
+                value();
+                if (x_.peek() != ',') break;
+                x_.expect(',');
+            }
+        }
+        x_.expect(']');
+        path_.resize(len);
+    }
+
+    Text x_;
+    Find find_;
+    std::string path_;
+    std::optional<Finding> found_;
+    std::size_t depth_ = 0;
+    std::vector<std::vector<std::pair<std::string, std::size_t>>> keys_;
+};
+
+// Where the value at `target` (a key path as the schema errors write it) begins, or its
+// key when at_key; when the path leads to no value (a required key is missing), the
+// deepest value on the way, i.e. the object that lacks the key. Only the members whose
+// path is a prefix of the target are entered, the others are skipped.
+class Locate {
+public:
+    Locate(std::string_view text, std::string target, bool at_key)
+        : x_(text), target_(std::move(target)), at_key_(at_key) {}
+    std::optional<std::size_t> run() {
+        try {
+            if (target_ == "(top level)") {
+                x_.peek();
+                return x_.pos();
+            }
+            value(std::string_view::npos);
+        } catch (const OutOfStep&) {  // never seen; the deepest value found so far stands
+        } catch (const json::exception&) {
+        }
+        return best_;
+    }
+
+private:
+    bool on_the_way() const {
+        return target_.compare(0, path_.size(), path_) == 0 &&
+               (target_.size() == path_.size() || target_[path_.size()] == '.' || target_[path_.size()] == '[');
+    }
+    // True when the target was found in this value.
+    bool value(std::size_t key_at) {
+        const char c = x_.peek();
+        const std::size_t at = x_.pos();
+        if (path_ == target_) {
+            best_ = at_key_ && key_at != std::string_view::npos ? key_at : at;
+            return true;
+        }
+        best_ = at;  // deeper than any value before: only prefixes of the target are entered
+        const std::size_t len = path_.size();
+        if (c == '{') {
+            x_.expect('{');
+            if (x_.peek() != '}') {
+                for (;;) {
+                    x_.peek();
+                    const std::size_t k = x_.pos();
+                    const std::string key = key_of(x_.string_token());
+                    x_.expect(':');
+                    path_.resize(len);
+                    append_key(path_, key);
+                    if (on_the_way()) {
+                        if (value(k)) return true;
+                    } else {
+                        x_.skip_value();
+                    }
+                    if (x_.peek() != ',') break;
+                    x_.expect(',');
+                }
+            }
+            x_.expect('}');
+        } else if (c == '[') {
+            x_.expect('[');
+            if (x_.peek() != ']') {
+                for (std::size_t i = 0;; ++i) {
+                    path_.resize(len);
+                    append_index(path_, i);
+                    if (on_the_way()) {
+                        if (value(std::string_view::npos)) return true;
+                    } else {
+                        x_.skip_value();
+                    }
+                    if (x_.peek() != ',') break;
+                    x_.expect(',');
+                }
+            }
+            x_.expect(']');
+        } else {
+            x_.skip_value();
+        }
+        // The target is not in this value (a missing key): best_ keeps the deepest value
+        // on the way, the one that lacks it.
+        path_.resize(len);
+        return false;
+    }
+
+    Text x_;
+    std::string target_;
+    bool at_key_;
+    std::string path_;
+    std::optional<std::size_t> best_;
+};
+
 }  // namespace
 
 std::string ParseError::to_string() const {
     std::ostringstream os;
     os << source;
+    if (kind != Kind::io && line > 0) os << ':' << line << ':' << column;
     switch (kind) {
         case Kind::io: os << ": " << message; break;
-        case Kind::syntax: os << ':' << line << ':' << column << ": syntax error: " << message; break;
+        case Kind::syntax: os << ": syntax error: " << message; break;
         case Kind::schema: os << ": " << key << ": " << message; break;
     }
     return os.str();
@@ -428,6 +728,39 @@ ParseResult parse_scene(std::string_view text, std::string_view source_name) noe
             else if (const auto q = msg.rfind(": "); q != std::string::npos) msg = msg.substr(q + 2);
             r.error.message = msg;
             return r;
+        } catch (const json::out_of_range& e) {
+            // 406: a number that overflows a double (1e400); the exception carries no position,
+            // so the scan finds the number.
+            r.error.kind = ParseError::Kind::schema;
+            const std::optional<Finding> f = Scan(text, Scan::Find::overflowing_number).run();
+            if (!f) {
+                r.error.key = "(scene)";
+                r.error.message = std::string("cannot be read: ") + e.what();
+                return r;
+            }
+            r.error.key = f->path;
+            line_column(text, f->at, r.error.line, r.error.column);
+            const std::string shown = f->token.size() > 40 ? f->token.substr(0, 37) + "..." : f->token;
+            r.error.message = "expected a finite number of magnitude at most 1e100, got " + shown;
+            return r;
+        }
+        // nlohmann-json takes a NUL byte for the end of the input: whatever follows a complete
+        // value after one would be ignored without a word.
+        if (const std::size_t nul = text.find('\0'); nul != std::string_view::npos) {
+            r.error.kind = ParseError::Kind::syntax;
+            line_column(text, nul, r.error.line, r.error.column);
+            r.error.message = "unexpected NUL byte after the JSON value";
+            return r;
+        }
+        if (const std::optional<Finding> d = Scan(text, Scan::Find::duplicate_key).run()) {
+            r.error.kind = ParseError::Kind::schema;
+            r.error.key = d->path;
+            line_column(text, d->at, r.error.line, r.error.column);
+            int line = 0, column = 0;
+            line_column(text, d->first, line, column);
+            r.error.message = "duplicate key (first given at line " + std::to_string(line) + ", column " +
+                              std::to_string(column) + ")";
+            return r;
         }
         try {
             r.scene = read_scene(root);
@@ -435,40 +768,88 @@ ParseResult parse_scene(std::string_view text, std::string_view source_name) noe
             r.error.kind = ParseError::Kind::schema;
             r.error.key = e.key;
             r.error.message = e.message;
+            if (const std::optional<std::size_t> at = Locate(text, e.key, e.at_key).run())
+                line_column(text, *at, r.error.line, r.error.column);
         }
     } catch (const std::exception& e) {
         r.scene.reset();
         r.error.kind = ParseError::Kind::schema;
         r.error.key = "(scene)";
+        r.error.line = r.error.column = 0;
         r.error.message = std::string("cannot be read: ") + e.what();
     } catch (...) {
         r.scene.reset();
         r.error.kind = ParseError::Kind::schema;
         r.error.key = "(scene)";
+        r.error.line = r.error.column = 0;
         r.error.message = "cannot be read";
     }
     return r;
 }
 
+namespace {
+
+ParseResult io_error(const std::string& path, std::string message) {
+    ParseResult r;
+    r.error.kind = ParseError::Kind::io;
+    r.error.source = path;
+    r.error.message = std::move(message);
+    return r;
+}
+
+const char* file_kind(mode_t mode) {
+    if (S_ISFIFO(mode)) return "a fifo";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "a special file";
+}
+
+struct Fd {
+    int fd;
+    ~Fd() {
+        if (fd >= 0) ::close(fd);
+    }
+};
+
+}  // namespace
+
+// The file is opened without blocking (a fifo with no writer would block open(2)) and
+// checked with fstat before a byte is read: a directory, a fifo or a device, and a file
+// over max_scene_bytes, get their own message.
 ParseResult load_scene(const std::string& path) noexcept {
     try {
-        std::ifstream in(path, std::ios::binary);
-        if (!in) {
-            ParseResult r;
-            r.error.kind = ParseError::Kind::io;
-            r.error.source = path;
-            r.error.message = "cannot open the file";
-            return r;
+        const Fd f{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY)};
+        if (f.fd < 0) return io_error(path, std::string("cannot open the file: ") + std::strerror(errno));
+        struct stat st {};
+        if (::fstat(f.fd, &st) != 0)
+            return io_error(path, std::string("cannot read the file: ") + std::strerror(errno));
+        if (S_ISDIR(st.st_mode)) return io_error(path, "is a directory, not a scene file");
+        if (!S_ISREG(st.st_mode))
+            return io_error(path, std::string("is not a regular file (") + file_kind(st.st_mode) + ")");
+        auto too_large = [&](long long bytes) {
+            const long long mb = 1'000'000;
+            return io_error(path, "is " + std::to_string((bytes + mb - 1) / mb) + " MB, over the limit of " +
+                                      std::to_string(max_scene_bytes / mb) + " MB for a scene file");
+        };
+        if (st.st_size > max_scene_bytes) return too_large(st.st_size);
+        std::string text(std::size_t(st.st_size), '\0');
+        std::size_t got = 0;
+        for (;;) {
+            if (got == text.size()) {  // the file may have grown since fstat
+                if (text.size() > std::size_t(max_scene_bytes)) return too_large((long long)text.size());
+                text.resize(text.size() + 65536);
+            }
+            const ssize_t n = ::read(f.fd, text.data() + got, text.size() - got);
+            if (n < 0 && errno == EINTR) continue;
+            if (n < 0) return io_error(path, std::string("cannot read the file: ") + std::strerror(errno));
+            if (n == 0) break;
+            got += std::size_t(n);
         }
-        std::ostringstream ss;
-        ss << in.rdbuf();
-        return parse_scene(ss.str(), path);
+        text.resize(got);
+        return parse_scene(text, path);
     } catch (...) {
-        ParseResult r;
-        r.error.kind = ParseError::Kind::io;
-        r.error.source = path;
-        r.error.message = "cannot read the file";
-        return r;
+        return io_error(path, "cannot read the file");
     }
 }
 

@@ -1,12 +1,23 @@
 // The `render` and `export-pov` subcommands, run in-process: a render to PPM and PNG at
 // the size asked for, option overrides, --diff between two modes, exit statuses for
 // usage errors (2, with a message naming the option) and for bad scenes or files (1),
-// and --help.
+// and --help; the output path checked before any ray is traced (and no file left behind
+// by the check), a directory as the scene, and write failures on a full device (/dev/full)
+// reported with their reason, for images, the POV-Ray file and standard output.
 #include "render_support.hpp"
 
 #include <rayproof/cli.hpp>
 #include <rayproof/render/cli.hpp>
 
+#include <fcntl.h>
+#include <stdio_ext.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -37,6 +48,36 @@ std::pair<int, std::string> render_err(std::vector<std::string> args) {
     const int status = render_cmd(std::move(args));
     return {status, ::testing::internal::GetCapturedStderr()};
 }
+
+std::pair<int, std::string> run_err(std::vector<std::string> args) {
+    ::testing::internal::CaptureStderr();
+    const int status = run(std::move(args));
+    return {status, ::testing::internal::GetCapturedStderr()};
+}
+
+// run(args) with the standard output sent to `device`; what could not be written is dropped.
+int run_with_stdout_on(const char* device, std::vector<std::string> args) {
+    std::fflush(stdout);
+    const int saved = ::dup(STDOUT_FILENO);
+    const int fd = ::open(device, O_WRONLY);
+    if (saved < 0 || fd < 0) {
+        ADD_FAILURE() << "cannot redirect the standard output to " << device << ": " << std::strerror(errno);
+        return -1;
+    }
+    ::dup2(fd, STDOUT_FILENO);
+    ::close(fd);
+    const int status = run(std::move(args));
+    __fpurge(stdout);
+    ::dup2(saved, STDOUT_FILENO);
+    ::close(saved);
+    std::clearerr(stdout);
+    return status;
+}
+
+std::string reason(int error) { return std::strerror(error); }
+
+// `--diff A B` with the first and the last mode.
+const std::vector<std::string> diff_args = {"--diff", mode_name(every_mode().front()), mode_name(every_mode().back())};
 
 TEST(Cli, RendersPpmAndPngAtTheRequestedSize) {
     for (const char* ext : {"ppm", "png"}) {
@@ -111,6 +152,121 @@ TEST(Cli, BadScenesAndFilesExitWith1) {
     EXPECT_EQ(render_cmd({bad, "-o", scratch("x.png")}), 1);
     EXPECT_EQ(render_cmd({scratch("missing.json"), "-o", scratch("x.png")}), 1);
     EXPECT_EQ(render_cmd({scene_path("cube.json"), "-o", "/nonexistent/dir/x.png", "--width", "4", "--height", "3"}), 1);
+}
+
+// A render that takes seconds (about 3.5 s on one core of a 2020s machine, twice that with
+// --diff), so that a check made after rendering shows in the time taken.
+std::vector<std::string> long_render(const std::string& out) {
+    return {scene_path("default.json"), "-o", out, "--width", "800", "--height", "600", "--supersample", "2",
+            "--threads", "1", "-q"};
+}
+
+// Output paths that cannot be written fail at once, naming the path and the reason, for
+// the image and for the --diff picture; each reason is what the system says when the
+// path is opened for writing.
+TEST(Cli, OutputPathIsCheckedBeforeRendering) {
+    const std::filesystem::path dir = scratch("dir");
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir / "already.png");
+    std::vector<std::pair<std::string, std::string>> cases = {
+        {(dir / "missing" / "x.png").string(), reason(ENOENT)},      // a missing directory
+        {(dir / "already.png").string(), reason(EISDIR)},            // a directory
+        {scene_path("cube.json") + "/x.png", reason(ENOTDIR)},        // a file taken for a directory
+    };
+    // An unwritable location: a read-only directory (no obstacle to root), and sysfs,
+    // where nobody creates files; each where the system does refuse it.
+    const std::filesystem::path ro = dir / "read-only";
+    std::filesystem::create_directory(ro);
+    std::filesystem::permissions(ro, std::filesystem::perms::owner_read | std::filesystem::perms::owner_exec);
+    for (const std::string& p : {(ro / "x.png").string(), std::string("/sys/rayproof-render-test.png")}) {
+        const int fd = ::open(p.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
+        if (fd >= 0) {
+            ::close(fd);
+            ::unlink(p.c_str());
+        } else {
+            cases.push_back({p, reason(errno)});
+        }
+    }
+    for (const auto& [out, why] : cases) {
+        for (bool diff : {false, true}) {
+            std::vector<std::string> args = long_render(out);
+            if (diff) args.insert(args.end(), diff_args.begin(), diff_args.end());
+            const auto start = std::chrono::steady_clock::now();
+            const auto [status, err] = render_err(args);
+            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            EXPECT_EQ(status, 1) << out;
+            EXPECT_EQ(err, "rayproof render: cannot write '" + out + "': " + why + "\n");
+            EXPECT_LT(seconds, 1.0) << out << ": the check came after rendering";
+        }
+    }
+    std::filesystem::permissions(ro, std::filesystem::perms::owner_all);
+    std::filesystem::remove_all(dir);
+}
+
+// The check creates a new output file to see that it can; it removes it again, so a
+// render that fails afterwards (here: on the scene) leaves no empty file behind.
+TEST(Cli, OutputCheckLeavesNoFileBehind) {
+    const std::string out = scratch("new.png"), bad = scratch("bad.json");
+    std::filesystem::remove(out);
+    std::ofstream(bad) << R"({"camera": {"position": [0, 0, 5], "look_at": [0, 0, 0]}, "objects": 1})";
+    const auto [status, err] = render_err({bad, "-o", out});
+    EXPECT_EQ(status, 1);
+    EXPECT_NE(err.find("objects: expected an array"), std::string::npos) << err;
+    EXPECT_FALSE(std::filesystem::exists(out));
+    // And an existing file is opened without being truncated.
+    std::ofstream(out) << "keep";
+    EXPECT_EQ(render_err({bad, "-o", out}).first, 1);
+    EXPECT_EQ(std::filesystem::file_size(out), 4u);
+    std::filesystem::remove(out);
+}
+
+// A character device passes the check: an image can be written to /dev/null.
+TEST(Cli, DevicesAreValidOutputs) {
+    if (!std::filesystem::exists("/dev/null")) GTEST_SKIP() << "no /dev/null";
+    const std::filesystem::path link = scratch("null.png");
+    std::filesystem::remove(link);
+    std::filesystem::create_symlink("/dev/null", link);
+    EXPECT_EQ(render_cmd({scene_path("cube.json"), "-o", link.string(), "--width", "4", "--height", "3", "-q"}), 0);
+    EXPECT_TRUE(std::filesystem::is_symlink(link));
+    std::filesystem::remove(link);
+}
+
+TEST(Cli, ADirectoryAsTheSceneSaysSo) {
+    const std::string dir = std::string(RAYPROOF_SCENES_DIR);
+    const auto [status, err] = render_err({dir, "-o", scratch("x.png")});
+    EXPECT_EQ(status, 1);
+    EXPECT_EQ(err, "rayproof render: " + dir + ": is a directory, not a scene file\n");
+}
+
+// A full device: every writer reports "No space left on device" and exits 1.
+TEST(Cli, WriteFailuresSayWhy) {
+    if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+    const std::string full = reason(ENOSPC);
+    auto [status, err] = run_err({"export-pov", scene_path("default.json"), "-o", "/dev/full"});
+    EXPECT_EQ(status, 1);
+    EXPECT_EQ(err, "rayproof export-pov: cannot write '/dev/full': " + full + "\n");
+
+    ::testing::internal::CaptureStderr();
+    status = run_with_stdout_on("/dev/full", {"export-pov", scene_path("default.json")});
+    err = ::testing::internal::GetCapturedStderr();
+    EXPECT_EQ(status, 1);
+    EXPECT_EQ(err, "rayproof export-pov: cannot write to standard output: " + full + "\n");
+
+    const std::filesystem::path dir = scratch("full");
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directory(dir);
+    for (const char* name : {"full.png", "full.ppm"}) {
+        const std::string link = (dir / name).string();
+        std::filesystem::create_symlink("/dev/full", link);
+        for (bool diff : {false, true}) {
+            std::vector<std::string> args = {scene_path("cube.json"), "-o", link, "--width", "64", "--height", "48"};
+            if (diff) args.insert(args.end(), diff_args.begin(), diff_args.end());
+            std::tie(status, err) = render_err(args);
+            EXPECT_EQ(status, 1) << link;
+            EXPECT_EQ(err, "rayproof render: cannot write '" + link + "': " + full + "\n");
+        }
+    }
+    std::filesystem::remove_all(dir);
 }
 
 TEST(Cli, ExportPovWritesAFile) {

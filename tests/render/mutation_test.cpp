@@ -1,7 +1,7 @@
 // Seeded mutations of the example scene files (byte flips, deletions, insertions of JSON
 // punctuation and of hostile numbers, truncations) through parse_scene: every input
 // gives a scene or an error with a message (syntax errors with a position inside the
-// text, schema errors with a key), nothing throws or crashes, and accepted scenes trace
+// text, schema errors with a key and a position), nothing throws or crashes, and accepted scenes trace
 // a few primary rays in every mode. A deterministic companion to fuzz/scene_fuzz.cpp.
 #include "render_support.hpp"
 
@@ -62,6 +62,8 @@ TEST(ParserMutations, EveryInputGetsASceneOrAClearError) {
                 } else {
                     ASSERT_EQ(e.kind, ParseError::Kind::schema);
                     ASSERT_FALSE(e.key.empty()) << e.to_string();
+                    ASSERT_GE(e.line, 1) << e.to_string();  // schema errors have a place in the text too
+                    ASSERT_GE(e.column, 1) << e.to_string();
                 }
                 continue;
             }
