@@ -1,9 +1,10 @@
-// The `render` and `export-pov` subcommands, run in-process: a render to PPM and PNG at
-// the size asked for, option overrides, --diff between two modes, exit statuses for
-// usage errors (2, with a message naming the option) and for bad scenes or files (1),
+// The `render`, `export-pov` and `compare` subcommands, run in-process: a render to PPM
+// and PNG at the size asked for, option overrides, --diff between two modes, exit statuses
+// for usage errors (2, with a message naming the option) and for bad scenes or files (1),
 // and --help; the output path checked before any ray is traced (and no file left behind
 // by the check), a directory as the scene, and write failures on a full device (/dev/full)
-// reported with their reason, for images, the POV-Ray file and standard output.
+// reported with their reason, for images, the POV-Ray file and standard output; the mean
+// absolute difference `compare` prints.
 #include "render_support.hpp"
 
 #include <rayproof/cli.hpp>
@@ -278,6 +279,32 @@ TEST(Cli, ExportPovWritesAFile) {
     EXPECT_NE(text.str().find("#version 3.7;"), std::string::npos);
     EXPECT_EQ(run({"export-pov"}), 2);
     EXPECT_EQ(run({"export-pov", scratch("missing.json")}), 1);
+}
+
+// `rayproof compare A B`: 0 for an image and itself; the mean over every channel for two
+// images that differ by a known amount; status 1 for different sizes.
+TEST(Cli, CompareGivesTheMeanAbsoluteDifference) {
+    const auto compare_cmd = [](const std::string& a, const std::string& b, std::string& out) {
+        ::testing::internal::CaptureStdout();
+        ::testing::internal::CaptureStderr();
+        const int status = run({"compare", a, b});
+        out = ::testing::internal::GetCapturedStdout() + ::testing::internal::GetCapturedStderr();
+        return status;
+    };
+    Image a(4, 2), b(4, 2), c(3, 2);
+    for (std::size_t i = 0; i < b.rgb.size(); ++i) b.rgb[i] = std::uint8_t(i % 3 == 0 ? 6 : 0);  // red +6
+    const std::string pa = scratch("a.png"), pb = scratch("b.ppm"), pc = scratch("c.png");
+    ASSERT_EQ(write_image(a, pa), "");
+    ASSERT_EQ(write_image(b, pb), "");
+    ASSERT_EQ(write_image(c, pc), "");
+    std::string out;
+    EXPECT_EQ(compare_cmd(pa, pa, out), 0);
+    EXPECT_NE(out.find("mean absolute difference 0.000/255"), std::string::npos) << out;
+    EXPECT_EQ(compare_cmd(pa, pb, out), 0);
+    EXPECT_NE(out.find("mean absolute difference 2.000/255"), std::string::npos) << out;
+    EXPECT_NE(out.find("largest 6/255; 8 of 8 pixels differ"), std::string::npos) << out;
+    EXPECT_EQ(compare_cmd(pa, pc, out), 1);
+    EXPECT_NE(out.find("differ in size"), std::string::npos) << out;
 }
 
 }  // namespace

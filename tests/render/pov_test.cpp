@@ -1,15 +1,13 @@
 // The POV-Ray export: the text has one POV-Ray object per scene object (spheres, boxes
 // for both box kinds with a matrix for the oriented one, planes with unit normals),
 // every light and material, a right-handed camera; names cannot inject POV-Ray code;
-// what cannot be exported exactly is listed (and nothing else); the `compare` command;
+// what cannot be exported exactly is listed (and nothing else);
 // and, when povray was found at configure time, every example scene's export parses
 // and renders with povray at 8×6, and POV-Ray's picture of every example scene but the
 // hostile one is within a mean of 3/255 per channel of rayproof's (otherwise the tests
 // are skipped and say why).
 #include "render_support.hpp"
 
-#include <rayproof/cli.hpp>
-#include <rayproof/render/cli.hpp>
 #include <rayproof/render/pov.hpp>
 
 #include <cstdlib>
@@ -102,39 +100,6 @@ TEST(PovExport, QuadraticAttenuationAsFadeLaw) {
     const std::string pov = export_pov(s);
     EXPECT_NE(pov.find("color rgb <0.125, 0.0625, 0.03125>"), std::string::npos) << pov;
     EXPECT_NE(pov.find("fade_distance 4 fade_power 2"), std::string::npos) << pov;
-}
-
-// `rayproof compare A B`: 0 for an image and itself; the mean over every channel for two
-// images that differ by a known amount; status 1 for different sizes.
-TEST(CompareCommand, MeanAbsoluteDifference) {
-    const auto run = [](std::vector<std::string> args, std::string& out) {
-        args.insert(args.begin(), {"rayproof", "compare"});
-        std::vector<const char*> argv;
-        for (const auto& a : args) argv.push_back(a.c_str());
-        CLI::App app{"test", "rayproof"};
-        app.require_subcommand(1);
-        int status = 0;
-        add_commands(app, status);
-        ::testing::internal::CaptureStdout();
-        ::testing::internal::CaptureStderr();
-        const auto stop = rayproof::cli::parse(app, int(argv.size()), argv.data());
-        out = ::testing::internal::GetCapturedStdout() + ::testing::internal::GetCapturedStderr();
-        return stop ? *stop : status;
-    };
-    Image a(4, 2), b(4, 2), c(3, 2);
-    for (std::size_t i = 0; i < b.rgb.size(); ++i) b.rgb[i] = std::uint8_t(i % 3 == 0 ? 6 : 0);  // red +6
-    const std::string pa = scratch("a.png"), pb = scratch("b.ppm"), pc = scratch("c.png");
-    ASSERT_EQ(write_image(a, pa), "");
-    ASSERT_EQ(write_image(b, pb), "");
-    ASSERT_EQ(write_image(c, pc), "");
-    std::string out;
-    EXPECT_EQ(run({pa, pa}, out), 0);
-    EXPECT_NE(out.find("mean absolute difference 0.000/255"), std::string::npos) << out;
-    EXPECT_EQ(run({pa, pb}, out), 0);
-    EXPECT_NE(out.find("mean absolute difference 2.000/255"), std::string::npos) << out;
-    EXPECT_NE(out.find("largest 6/255; 8 of 8 pixels differ"), std::string::npos) << out;
-    EXPECT_EQ(run({pa, pc}, out), 1);
-    EXPECT_NE(out.find("differ in size"), std::string::npos) << out;
 }
 
 class PovRay : public ::testing::TestWithParam<std::string> {};
