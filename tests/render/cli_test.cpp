@@ -239,16 +239,18 @@ TEST(Cli, ADirectoryAsTheSceneSaysSo) {
     EXPECT_EQ(err, "rayproof render: " + dir + ": is a directory, not a scene file\n");
 }
 
-// A full device: every writer reports "No space left on device" and exits 1.
+// A full device: every writer reports "No space left on device" and exits 1. (The
+// exports turn the tree attenuation off, so that the error is all export-pov says.)
 TEST(Cli, WriteFailuresSayWhy) {
     if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
     const std::string full = reason(ENOSPC);
-    auto [status, err] = run_err({"export-pov", scene_path("default.json"), "-o", "/dev/full"});
+    auto [status, err] =
+        run_err({"export-pov", scene_path("default.json"), "--no-tree-attenuation", "-o", "/dev/full"});
     EXPECT_EQ(status, 1);
     EXPECT_EQ(err, "rayproof export-pov: cannot write '/dev/full': " + full + "\n");
 
     ::testing::internal::CaptureStderr();
-    status = run_with_stdout_on("/dev/full", {"export-pov", scene_path("default.json")});
+    status = run_with_stdout_on("/dev/full", {"export-pov", scene_path("default.json"), "--no-tree-attenuation"});
     err = ::testing::internal::GetCapturedStderr();
     EXPECT_EQ(status, 1);
     EXPECT_EQ(err, "rayproof export-pov: cannot write to standard output: " + full + "\n");
@@ -279,6 +281,18 @@ TEST(Cli, ExportPovWritesAFile) {
     EXPECT_NE(text.str().find("#version 3.7;"), std::string::npos);
     EXPECT_EQ(run({"export-pov"}), 2);
     EXPECT_EQ(run({"export-pov", scratch("missing.json")}), 1);
+}
+
+// What the export cannot write exactly goes to stderr, one "not exact" line each, and
+// the export still succeeds; with the tree attenuation off the default scene has none.
+TEST(Cli, ExportPovSaysWhatIsNotExact) {
+    const std::string out = scratch("scene.pov");
+    auto [status, err] = run_err({"export-pov", scene_path("default.json"), "-o", out});
+    EXPECT_EQ(status, 0);
+    EXPECT_EQ(err.rfind("rayproof export-pov: not exact: the ray tree's distance attenuation", 0), 0u) << err;
+    std::tie(status, err) = run_err({"export-pov", scene_path("default.json"), "-o", out, "--no-tree-attenuation"});
+    EXPECT_EQ(status, 0);
+    EXPECT_EQ(err, "");
 }
 
 // `rayproof compare A B`: 0 for an image and itself; the mean over every channel for two
