@@ -107,3 +107,43 @@ TYPED_TEST(BoundWitness, ObbDetFilterGamma1) {
     EXPECT_EQ(intersect(ray, box, certified).verdict, Verdict::invalid) << repro(ray, box);
     expect_contract(ray, box);
 }
+
+// obb-common-bound-gamma1: the certified Obb straight-line path (obb_certified_common in
+// ray_obb.hpp), whose bounds of o'_i and d'_i, 2·gamma(4)·Σ|a_ji Δ~_j| and
+// 2·gamma(3)·Σ|a_ji d_j|, the mutant shrinks to gamma(1)·Σ.
+// Slab 1 (axis (0, 1, 0), centre 0) is entered at t1 = -1 - o_1 = 0x1.0000000000196p+0
+// exactly. Slab 0 (axis a = (1 + 2^-21.., -2^-30.., -2^-32..)) is entered at t0 = (-h_0 -
+// o'_0)/d'_0, o'_0 = a·(o - c) ~ -2^8, which exceeds t1 by 0.62u (u = 2^-53): the entry
+// face is 0. Computed, o'_0 = fl(fl(fl(a_0·Δ~_0) + fl(a_1·Δ~_1)) + fl(a_2·Δ~_2)) with
+// Δ~_0 = fl(o_0 - c_0): the four roundings that carry the large term all fall the same
+// way, by 0.40, 1.00, 0.98 and 0.85 times u|x| (values near 2^8 from above, where a
+// rounding can reach u|x|), and Δ~_2's product and the sum with it are below u|x|: o'_0
+// is off by 3.24u|o'_0|, so the computed entry value t0~ = 0x1.ffffffffffffp-1 lies 828u
+// below t1. The mutant's bounds, E_0 = 522u and E_1 = 14u (the slab value's bound
+// doubles gamma(1)·Σ|a_j0 Δ~_j| = u·|o'_0|·(1 + u)), put slab 1 certainly ahead: face 2.
+// The kernel's, E_0 = 4116u and E_1 = 52u, do not; its general path finds face 0.
+// Found by a search over boxes with one tilted axis, the origin far out on it (so that
+// o'_0 is large against the entry value) and values near powers of two, the other slab's
+// entry put on the double just below the exact t0; checked here by the oracle.
+TEST(BoundWitnessDouble, ObbCommonBoundGamma1) {
+    Mat3<double> axes;
+    axes << 0x1.00000c1a1431ap+0, 0, 0, -0x1.33d10481187c4p-30, 1, 0, -0x1.77150e22073a8p-32, 0, 1;
+    const Obb<double> box{Vec3<double>(0x1.589944b2d19cbp-7, 0, 0x1.51b7257d274fbp+0), axes,
+                          Vec3<double>(0x1.fe0736aa17a7dp+7, 1, 0x1.f4p+9)};
+    const Ray<double> ray{Vec3<double>(-0x1.0000de145ed4p+8, -0x1.00000000000cbp+1, 0x1.42121012ddae8p+1),
+                          Vec3<double>(1, 1, 1)};
+    // The computed o'_0 in the straight path's order, against the exact one: off by more
+    // than three times u|o'_0| (gamma(1) allows one).
+    const double delta0 = ray.origin[0] - box.center[0], delta2 = ray.origin[2] - box.center[2];
+    const double op = (mul(axes(0, 0), delta0) + mul(axes(1, 0), ray.origin[1])) + mul(axes(2, 0), delta2);
+    using BD = detail::BigDyadic;
+    BD exact_op(0.0);
+    for (int j = 0; j < 3; ++j) exact_op = exact_op + BD(axes(j, 0)) * (BD(ray.origin[j]) - BD(box.center[j]));
+    const BD err = BD(op) - exact_op;
+    EXPECT_EQ((BD(double(err.sign())) * err - BD(3 * u * std::abs(op))).sign(), 1);
+    const oracle::Exact<double> exact = oracle::exact(ray, box);
+    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
+    EXPECT_EQ(exact.face, 0) << exact;
+    EXPECT_EQ(intersect(ray, box, certified).face, 0) << repro(ray, box);
+    expect_contract(ray, box);
+}
