@@ -56,6 +56,7 @@ template <class T, class Shape> void expect_contract(const Ray<T>& r, const Shap
     expect_mode_keeps_contract(r, s, certified);
     expect_mode_keeps_contract(r, s, conservative);
     expect_mode_keeps_contract(r, s, fast);  // fast promises validity only
+    EXPECT_EQ(verdict(r, s, certified), oracle::exact(r, s).verdict) << "certified verdict(): " << repro(r, s);
 }
 
 }  // namespace
@@ -145,5 +146,38 @@ TEST(BoundWitnessDouble, ObbCommonBoundGamma1) {
     ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
     EXPECT_EQ(exact.face, 0) << exact;
     EXPECT_EQ(intersect(ray, box, certified).face, 0) << repro(ray, box);
+    expect_contract(ray, box);
+}
+
+// aabb-lanes-bound-gamma1: the certified Aabb straight-line lanes (aabb_lanes in
+// ray_aabb.hpp), whose bound of each computed slab value, K|t~| + eta with K =
+// 2·gamma(3), the mutant shrinks to gamma(1)|t~| + eta.
+// The ray enters slab 0 at t_a = (lo_0 - o_0)/d_0 and leaves slab 1 at t_b = (hi_1 -
+// o_1)/d_1; t_b is the largest value of its kind below t_a (t_a - t_b = 0.033u|t|, u =
+// 2^-53, t ~ 0.913): a miss by a hair. Each computed value is fl(fl(p - o)·fl(1/d)),
+// three roundings; here they fall apart: for t_a by -0.28, -0.71 and -0.26 times u|x|
+// (1/d_0 just above a power of two, where a rounding can reach u|x|), -1.25u|t| in all;
+// for t_b by +0.55, +1.00 and +0.52, +2.07u|t| in all. So t_b~ - t_a~ = 3.28u|t|: the
+// entry's upper bound t_a~ + gamma(1)|t_a~| lies below the exit's lower bound t_b~ -
+// gamma(1)|t_b~|, and the mutant proves a hit (its verdict and its full query). The
+// kernel's bounds (12u|t| apart at least) prove nothing; the general path finds the
+// miss.
+// Found by a search over values near powers of two for slab 0, then the exit of slab 1
+// put on the double just below t_a for random d_1 until its own roundings fell upward;
+// checked here by the oracle.
+TEST(BoundWitnessDouble, AabbLanesBoundGamma1) {
+    const Aabb<double> box{Vec3<double>(0x1.000002c60e85p-8, -0x1p20, -0x1p20), Vec3<double>(0x1p20, 0x1.5391242b36c1p+1, 0x1p20)};
+    const Ray<double> ray{Vec3<double>(-0x1.cc1a981f3f933p-2, -0x1.000fb23deca03p+0, 0),
+                          Vec3<double>(0x1.fc2cacaebc866p-2, 0x1.ffffffffff7f7p+1, 1)};
+    // The two computed values as the lanes compute them, and the shrunk bounds apart.
+    const double ta = mul(box.lo[0] - ray.origin[0], 1 / ray.direction[0]);
+    const double tb = mul(box.hi[1] - ray.origin[1], 1 / ray.direction[1]);
+    EXPECT_GT(tb - ta, 3 * u * std::abs(ta));
+    EXPECT_LT(ta + detail::gamma<double>(1) * std::abs(ta), tb - detail::gamma<double>(1) * std::abs(tb));
+    using BD = detail::BigDyadic;  // exactly, t_a > t_b: (lo_0 - o_0)·d_1 > (hi_1 - o_1)·d_0 (d > 0)
+    EXPECT_EQ(((BD(box.lo[0]) - BD(ray.origin[0])) * BD(ray.direction[1]) -
+               (BD(box.hi[1]) - BD(ray.origin[1])) * BD(ray.direction[0])).sign(), 1);
+    EXPECT_EQ(oracle::exact(ray, box).verdict, Verdict::miss);
+    EXPECT_EQ(intersect(ray, box, certified).verdict, Verdict::miss) << repro(ray, box);
     expect_contract(ray, box);
 }
