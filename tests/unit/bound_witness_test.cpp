@@ -181,3 +181,51 @@ TEST(BoundWitnessDouble, AabbLanesBoundGamma1) {
     EXPECT_EQ(intersect(ray, box, certified).verdict, Verdict::miss) << repro(ray, box);
     expect_contract(ray, box);
 }
+
+// sphere-verdict-margin-gamma1: the certified Sphere verdict filter
+// (sphere_verdict_common in detail/ray_sphere_verdict.hpp), whose certificate of the
+// line's distance l against r, D~ = fl(S~ - R~) with S = |Δ × d|² and R = r²|d|², has the
+// margin E = 2·gamma(13)·ΣM~_j² + 2·gamma(7)·R~ (+ underflow terms), which the mutant
+// shrinks to 2·gamma(1)·(ΣM~_j² + R~).
+// The ray passes 0.46u·S/(2|d|²r) inside the ball's boundary (exactly, S - R = -0.46u·S,
+// u = 2^-53): a hit. Computed, the three components of w = Δ × d (the products fl(Δ~_k
+// d_m) of opposite signs, so M ~ |w|) are off by 0.58, 1.64 and 0.15 times u|w_j|, each
+// the same way as the others' share of S, and the squares and sums add theirs: S~ is
+// 4.05u·S too large; R~ = fl(fl(r·r)·fl(|d|²)) is 1.01u·R too small. So D~ = +4.59u·S:
+// the line looks outside. ΣM~² = 1.07·S, so the mutant's margin is 4.14u·S and it
+// answers miss; the kernel's is 41.9u·S and its verdict goes on to the full query: hit.
+// Found by a search over random lines with directions near powers of two, the radius
+// put on the doubles next to the exact distance; checked here by the oracle.
+TEST(BoundWitnessDouble, SphereVerdictMarginGamma1) {
+    const Sphere<double> sphere{Vec3<double>(0x1.bb2cdadcc390bp+0, -0x1.4a3e59fc2a55p-1, -0x1.ff156876cf92ep+2),
+                                0x1.d32785f945fp+3};
+    const Ray<double> ray{Vec3<double>(0x1.bb0ef1dbcf1e6p+1, 0x1.6e127c03963fdp-1, 0x1.efb4a3f0c8c0dp+2),
+                          Vec3<double>(0x1.fff9d83e91951p+0, -0x1.0000000189d98p+0, -0x1.21717a548ff43p+0)};
+    // The certificate as the filter computes it, against the shrunk margin.
+    double delta[3], d[3];
+    for (int j = 0; j < 3; ++j) delta[j] = ray.origin[j] - sphere.center[j], d[j] = ray.direction[j];
+    const double a = (mul(d[0], d[0]) + mul(d[1], d[1])) + mul(d[2], d[2]);
+    double S = 0, MM = 0;
+    for (int j = 0; j < 3; ++j) {
+        const int k = (j + 1) % 3, m = (j + 2) % 3;
+        const double A = mul(delta[k], d[m]), B = mul(delta[m], d[k]), w = A - B, M = std::abs(A) + std::abs(B);
+        S += mul(w, w);
+        MM += mul(M, M);
+    }
+    const double R = mul(mul(sphere.radius, sphere.radius), a), D = S - R;
+    EXPECT_GT(D, 2 * detail::gamma<double>(1) * (MM + R));
+    EXPECT_LT(D, 2 * detail::gamma<double>(13) * MM + 2 * detail::gamma<double>(7) * R);
+    // Exactly, the line passes inside: |Δ × d|² < r²|d|².
+    using BD = detail::BigDyadic;
+    BD Sx(0.0), ax(0.0);
+    for (int j = 0; j < 3; ++j) {
+        const int k = (j + 1) % 3, m = (j + 2) % 3;
+        const BD w = (BD(ray.origin[k]) - BD(sphere.center[k])) * BD(d[m]) - (BD(ray.origin[m]) - BD(sphere.center[m])) * BD(d[k]);
+        Sx = Sx + w * w;
+        ax = ax + BD(d[j]) * BD(d[j]);
+    }
+    EXPECT_EQ((Sx - BD(sphere.radius) * BD(sphere.radius) * ax).sign(), -1);
+    EXPECT_EQ(oracle::exact(ray, sphere).verdict, Verdict::hit);
+    EXPECT_EQ(verdict(ray, sphere, certified), Verdict::hit) << repro(ray, sphere);
+    expect_contract(ray, sphere);
+}
