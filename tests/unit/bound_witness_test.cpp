@@ -229,3 +229,47 @@ TEST(BoundWitnessDouble, SphereVerdictMarginGamma1) {
     EXPECT_EQ(verdict(ray, sphere, certified), Verdict::hit) << repro(ray, sphere);
     expect_contract(ray, sphere);
 }
+
+// sphere-verdict-bounds-gamma1: the certified Sphere verdict filter
+// (sphere_verdict_common), whose bound of q(t) = |Δ + t d|² - r² at the range's ends,
+// gamma(9)·(ΣM_j² + r²) doubled, the mutant shrinks to 2·gamma(1)·(ΣM_j² + r²).
+// At t_min = 0x1.00024cee578f9p-1 the point lies just outside the ball, q(t_min) =
+// +0.30u·r² exactly (u = 2^-53), and moves away from it (the slope d·w > 0): a miss. The
+// dominant component, w_1 = Δ~_1 + fl(t_min·d_1) ~ -18.8 (r ~ 19.5), comes out 1.66u|w_1|
+// too small in magnitude (Δ~_1 = fl(o_1 - c_1) by 0.87u, the sum by nearly u, the
+// product by 0.33u), and the squares and sums add their share: v~ = fl(Σ w~_j² - r²) =
+// -4.19u·r², which the mutant's bound 4.01u·r² (ΣM~² + r² = 2.0·r²) takes as inside: a
+// hit. The kernel's bound, 36.1u·r², decides nothing there; the full query finds the miss.
+// Found by a search over random rays with directions near powers of two, the radius put
+// on the doubles next to |w|; checked here by the oracle.
+TEST(BoundWitnessDouble, SphereVerdictBoundsGamma1) {
+    const Sphere<double> sphere{Vec3<double>(-0x1.94bf2ca0fa1a5p+2, 0x1.85dbc5409e165p+3, -0x1.bf2c2d48c403dp+0),
+                                0x1.376b15c63de69p+4};
+    Ray<double> ray{Vec3<double>(-0x1.042cb13203524p+1, -0x1.86fb9804a9628p+2, -0x1.ec93883ff221ap-1),
+                    Vec3<double>(0x1.8931d1df7650ep+0, -0x1.001716e4e7a67p+0, -0x1.000000077d384p+0)};
+    ray.t_min = 0x1.00024cee578f9p-1;
+    // q(t_min) as the filter computes it, against the shrunk bound.
+    const double rr = mul(sphere.radius, sphere.radius);
+    double v = -rr, bq = rr;
+    for (int j = 0; j < 3; ++j) {
+        const double p = mul(ray.t_min, ray.direction[j]), w = (ray.origin[j] - sphere.center[j]) + p;
+        const double m = std::abs(ray.origin[j] - sphere.center[j]) + std::abs(p);
+        v += mul(w, w);
+        bq += mul(m, m);
+    }
+    EXPECT_LT(v, -2 * detail::gamma<double>(1) * bq);
+    EXPECT_GT(v, -2 * detail::gamma<double>(9) * bq);
+    // Exactly, the point at t_min lies outside (q > 0) and leaves (slope > 0).
+    using BD = detail::BigDyadic;
+    BD q = -BD(sphere.radius) * BD(sphere.radius), slope(0.0);
+    for (int j = 0; j < 3; ++j) {
+        const BD w = BD(ray.origin[j]) - BD(sphere.center[j]) + BD(ray.t_min) * BD(ray.direction[j]);
+        q = q + w * w;
+        slope = slope + BD(ray.direction[j]) * w;
+    }
+    EXPECT_EQ(q.sign(), 1);
+    EXPECT_EQ(slope.sign(), 1);
+    EXPECT_EQ(oracle::exact(ray, sphere).verdict, Verdict::miss);
+    EXPECT_EQ(verdict(ray, sphere, certified), Verdict::miss) << repro(ray, sphere);
+    expect_contract(ray, sphere);
+}
