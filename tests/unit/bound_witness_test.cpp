@@ -273,3 +273,35 @@ TEST(BoundWitnessDouble, SphereVerdictBoundsGamma1) {
     EXPECT_EQ(verdict(ray, sphere, certified), Verdict::miss) << repro(ray, sphere);
     expect_contract(ray, sphere);
 }
+
+// sphere-cheap-signs-gamma1: the certified Sphere straight-line path's cheap signs of q
+// at the range's ends (sphere_cheap_signs in detail/ray_sphere_straight_line.hpp: the
+// same evaluation and bound as the verdict filter's, above), shrunk to 2·gamma(1). The
+// range of the previous witness cut to the single point t_min = t_max: q there is
+// +0.30u·r² exactly (a miss), computed -4.19u·r² against the mutant's 4.01u·r², so the
+// mutant takes both ends as inside and answers the hit [t_min, t_max]. The line itself
+// passes through the ball, so the path gets that far; the kernel's bound (36.1u·r²)
+// decides nothing and the general path finds the miss.
+TEST(BoundWitnessDouble, SphereCheapSignsGamma1) {
+    const Sphere<double> sphere{Vec3<double>(-0x1.94bf2ca0fa1a5p+2, 0x1.85dbc5409e165p+3, -0x1.bf2c2d48c403dp+0),
+                                0x1.376b15c63de69p+4};
+    Ray<double> ray{Vec3<double>(-0x1.042cb13203524p+1, -0x1.86fb9804a9628p+2, -0x1.ec93883ff221ap-1),
+                    Vec3<double>(0x1.8931d1df7650ep+0, -0x1.001716e4e7a67p+0, -0x1.000000077d384p+0)};
+    ray.t_min = ray.t_max = 0x1.00024cee578f9p-1;
+    const double delta[3] = {ray.origin[0] - sphere.center[0], ray.origin[1] - sphere.center[1],
+                             ray.origin[2] - sphere.center[2]};
+    const double d[3] = {ray.direction[0], ray.direction[1], ray.direction[2]};
+    // The kernel's cheap sign is undecided there; the shrunk bound's would be "inside".
+    EXPECT_EQ(detail::sphere_cheap_signs(delta, d, double(sphere.radius), ray.t_min).q, 2);
+    const double rr = mul(sphere.radius, sphere.radius);
+    double v = -rr, bq = rr;
+    for (int j = 0; j < 3; ++j) {
+        const double p = mul(ray.t_min, d[j]), w = delta[j] + p, m = std::abs(delta[j]) + std::abs(p);
+        v += mul(w, w);
+        bq += mul(m, m);
+    }
+    EXPECT_LT(v, -2 * detail::gamma<double>(1) * bq);
+    EXPECT_EQ(oracle::exact(ray, sphere).verdict, Verdict::miss);
+    EXPECT_EQ(intersect(ray, sphere, certified).verdict, Verdict::miss) << repro(ray, sphere);
+    expect_contract(ray, sphere);
+}
