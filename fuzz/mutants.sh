@@ -16,7 +16,8 @@
 # applies ends the script with status 2) and judges the mutant two ways:
 #   suites  the CTest unit, oracle and property suites of its shapes, at their default
 #           size (the RAYPROOF_RC_DEFAULT of tests/props/CMakeLists.txt), built with g++
-#           -O2 in build/mutants/src/build/suites: for each shape, ray_<shape>_test,
+#           -O2 in build/mutants/src/build/suites: bound_witness_test (the bounds'
+#           witnesses, every shape's), then for each shape, ray_<shape>_test,
 #           ray_<shape>_oracle_test, certified_exact_stage_test (that shape's tests) and
 #           ray_<shape>_props, in that order, up to the first failing test;
 #   fuzz    the fuzz target from an EMPTY corpus (same sanitizer build as fuzz/ci.sh, in
@@ -150,6 +151,7 @@ suite_lines() {
   S="$(tr '[:lower:]' '[:upper:]' <<<"${s:0:1}")${s:1}"
   [ "$s" = aabb ] && S=Aabb
   [ "$s" = obb ] && S=Obb
+  echo "tests/unit/bound_witness_test *"
   echo "tests/unit/ray_${s}_test *"
   echo "tests/oracle/ray_${s}_oracle_test *"
   echo "tests/exact_stage/certified_exact_stage_test *.${S}*"
