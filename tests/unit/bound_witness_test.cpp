@@ -20,6 +20,7 @@
 #include <span>
 #include <sstream>
 #include <string>
+#include <utility>
 
 using namespace rayproof;
 
@@ -33,6 +34,24 @@ struct ScalarNames {
 constexpr double u = 0x1p-53;
 // fl(x·y) rounded on its own (no contraction into a later addition: detail/eft.hpp).
 double mul(double x, double y) { return detail::rounded(x * y); }
+
+// q(t) = |Δ + t·d|² - r² (Δ = o - c) at one end of the range, as the certified sphere's
+// verdict filter and cheap signs evaluate it, and the sum ΣM_j² + r² their bound scales
+// (M_j = |Δ~_j| + |fl(t·d_j)|).
+struct FilteredQ {
+    double q, bound_sum;
+};
+FilteredQ filtered_q(const Sphere<double>& s, const Ray<double>& r, double t) {
+    const double rr = mul(s.radius, s.radius);
+    FilteredQ f{-rr, rr};
+    for (int j = 0; j < 3; ++j) {
+        const double delta = r.origin[j] - s.center[j], p = mul(t, r.direction[j]);
+        const double w = delta + p, m = std::abs(delta) + std::abs(p);
+        f.q += mul(w, w);
+        f.bound_sum += mul(m, m);
+    }
+    return f;
+}
 
 template <class T, class Shape> std::string repro(const Ray<T>& r, const Shape& s) {
     std::ostringstream os;
@@ -230,6 +249,16 @@ TEST(BoundWitnessDouble, SphereVerdictMarginGamma1) {
     expect_contract(ray, sphere);
 }
 
+// The input of the two witnesses below: the ray starts at t_min just outside the ball.
+std::pair<Sphere<double>, Ray<double>> sphere_end_witness() {
+    const Sphere<double> sphere{Vec3<double>(-0x1.94bf2ca0fa1a5p+2, 0x1.85dbc5409e165p+3, -0x1.bf2c2d48c403dp+0),
+                                0x1.376b15c63de69p+4};
+    Ray<double> ray{Vec3<double>(-0x1.042cb13203524p+1, -0x1.86fb9804a9628p+2, -0x1.ec93883ff221ap-1),
+                    Vec3<double>(0x1.8931d1df7650ep+0, -0x1.001716e4e7a67p+0, -0x1.000000077d384p+0)};
+    ray.t_min = 0x1.00024cee578f9p-1;
+    return {sphere, ray};
+}
+
 // sphere-verdict-bounds-gamma1: the certified Sphere verdict filter
 // (sphere_verdict_common), whose bound of q(t) = |Δ + t d|² - r² at the range's ends,
 // gamma(9)·(ΣM_j² + r²) doubled, the mutant shrinks to 2·gamma(1)·(ΣM_j² + r²).
@@ -243,22 +272,11 @@ TEST(BoundWitnessDouble, SphereVerdictMarginGamma1) {
 // Found by a search over random rays with directions near powers of two, the radius put
 // on the doubles next to |w|; checked here by the oracle.
 TEST(BoundWitnessDouble, SphereVerdictBoundsGamma1) {
-    const Sphere<double> sphere{Vec3<double>(-0x1.94bf2ca0fa1a5p+2, 0x1.85dbc5409e165p+3, -0x1.bf2c2d48c403dp+0),
-                                0x1.376b15c63de69p+4};
-    Ray<double> ray{Vec3<double>(-0x1.042cb13203524p+1, -0x1.86fb9804a9628p+2, -0x1.ec93883ff221ap-1),
-                    Vec3<double>(0x1.8931d1df7650ep+0, -0x1.001716e4e7a67p+0, -0x1.000000077d384p+0)};
-    ray.t_min = 0x1.00024cee578f9p-1;
+    auto [sphere, ray] = sphere_end_witness();
     // q(t_min) as the filter computes it, against the shrunk bound.
-    const double rr = mul(sphere.radius, sphere.radius);
-    double v = -rr, bq = rr;
-    for (int j = 0; j < 3; ++j) {
-        const double p = mul(ray.t_min, ray.direction[j]), w = (ray.origin[j] - sphere.center[j]) + p;
-        const double m = std::abs(ray.origin[j] - sphere.center[j]) + std::abs(p);
-        v += mul(w, w);
-        bq += mul(m, m);
-    }
-    EXPECT_LT(v, -2 * detail::gamma<double>(1) * bq);
-    EXPECT_GT(v, -2 * detail::gamma<double>(9) * bq);
+    const FilteredQ f = filtered_q(sphere, ray, ray.t_min);
+    EXPECT_LT(f.q, -2 * detail::gamma<double>(1) * f.bound_sum);
+    EXPECT_GT(f.q, -2 * detail::gamma<double>(9) * f.bound_sum);
     // Exactly, the point at t_min lies outside (q > 0) and leaves (slope > 0).
     using BD = detail::BigDyadic;
     BD q = -BD(sphere.radius) * BD(sphere.radius), slope(0.0);
@@ -283,24 +301,15 @@ TEST(BoundWitnessDouble, SphereVerdictBoundsGamma1) {
 // passes through the ball, so the path gets that far; the kernel's bound (36.1u·r²)
 // decides nothing and the general path finds the miss.
 TEST(BoundWitnessDouble, SphereCheapSignsGamma1) {
-    const Sphere<double> sphere{Vec3<double>(-0x1.94bf2ca0fa1a5p+2, 0x1.85dbc5409e165p+3, -0x1.bf2c2d48c403dp+0),
-                                0x1.376b15c63de69p+4};
-    Ray<double> ray{Vec3<double>(-0x1.042cb13203524p+1, -0x1.86fb9804a9628p+2, -0x1.ec93883ff221ap-1),
-                    Vec3<double>(0x1.8931d1df7650ep+0, -0x1.001716e4e7a67p+0, -0x1.000000077d384p+0)};
-    ray.t_min = ray.t_max = 0x1.00024cee578f9p-1;
+    auto [sphere, ray] = sphere_end_witness();
+    ray.t_max = ray.t_min;
     const double delta[3] = {ray.origin[0] - sphere.center[0], ray.origin[1] - sphere.center[1],
                              ray.origin[2] - sphere.center[2]};
     const double d[3] = {ray.direction[0], ray.direction[1], ray.direction[2]};
     // The kernel's cheap sign is undecided there; the shrunk bound's would be "inside".
     EXPECT_EQ(detail::sphere_cheap_signs(delta, d, double(sphere.radius), ray.t_min).q, 2);
-    const double rr = mul(sphere.radius, sphere.radius);
-    double v = -rr, bq = rr;
-    for (int j = 0; j < 3; ++j) {
-        const double p = mul(ray.t_min, d[j]), w = delta[j] + p, m = std::abs(delta[j]) + std::abs(p);
-        v += mul(w, w);
-        bq += mul(m, m);
-    }
-    EXPECT_LT(v, -2 * detail::gamma<double>(1) * bq);
+    const FilteredQ f = filtered_q(sphere, ray, ray.t_min);
+    EXPECT_LT(f.q, -2 * detail::gamma<double>(1) * f.bound_sum);
     EXPECT_EQ(oracle::exact(ray, sphere).verdict, Verdict::miss);
     EXPECT_EQ(intersect(ray, sphere, certified).verdict, Verdict::miss) << repro(ray, sphere);
     expect_contract(ray, sphere);
