@@ -73,9 +73,16 @@ std::string show(const json& j) {
     return s;
 }
 
+// Appends a key to a key path, as every error writes it: "a.b", an empty key shown as "".
+void append_key(std::string& path, const std::string& key) {
+    if (!path.empty()) path += '.';
+    path += key.empty() ? "\"\"" : key;
+}
+
 std::string join_path(const std::string& parent, const std::string& key) {
-    const std::string shown = key.empty() ? "\"\"" : key;  // an empty key is still named
-    return parent.empty() ? shown : parent + "." + shown;
+    std::string path = parent;
+    append_key(path, key);
+    return path;
 }
 
 // One JSON object of the schema: its keys are checked against the allowed ones (a typo
@@ -487,11 +494,6 @@ std::string key_of(std::string_view token) {
     const std::string_view inner = token.substr(1, token.size() - 2);
     if (inner.find('\\') == std::string_view::npos) return std::string(inner);
     return json::parse(token).get<std::string>();
-}
-
-void append_key(std::string& path, const std::string& key) {
-    if (!path.empty()) path += '.';
-    path += key.empty() ? "\"\"" : key;
 }
 
 void append_index(std::string& path, std::size_t i) {
