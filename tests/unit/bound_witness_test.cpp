@@ -314,3 +314,61 @@ TEST(BoundWitnessDouble, SphereCheapSignsGamma1) {
     EXPECT_EQ(intersect(ray, sphere, certified).verdict, Verdict::miss) << repro(ray, sphere);
     expect_contract(ray, sphere);
 }
+
+// obb-frame-bound-gamma1: the Obb slab frame of the certified general path (ObbFrame's
+// certified constructor in ray_obb.hpp), whose enclosure of o'_i = Σ_j a_ji (o_j - c_j),
+// fl(o'_i) ± (2·gamma(4)·Σ|a_ji Δ~_j| + 2^-1022) stepped one double outward, the mutant
+// shrinks to gamma(1)·Σ|a_ji Δ~_j| (and that of d'_i to gamma(1)·Σ|a_ji d_j|).
+// Axes 1 and 2 are e_1 and e_2 and the ray's direction is e_0, so d'_1 = d'_2 = 0: the
+// ray is parallel to those slabs (and inside them), the straight-line path declines
+// (it needs every |d'_i| well away from 0) and the general path decides. Slab 0 has the
+// axis a = (a_0, a_1, a_2) ~ (1, 1, -1) and d'_0 = a_0 exactly. Computed, o'_0 =
+// fl(fl(x_0 + x_1) + x_2) with x_j = fl(a_j·fl(o_j - c_j)) ~ (1, 1, -2): every rounding
+// moves o'_0 down, by (in units of u = 2^-53, absolute): Δ~_0 and x_0 -0.72u|x_0| and
+// -0.97u|x_0| (1.70u), Δ~_1 and x_1 -0.29u|x_1| and -0.90u|x_1| (1.19u), Δ~_2 and x_2
+// +0.90u|x_2| and -0.81u|x_2| with a_2 < 0 (3.44u), x_0 + x_1 -2.0u (its half-ulp), and
+// the last sum is exact (Sterbenz). So fl(o'_0) lies 8.33u = 2.07u·S below o'_0 ~
+// -0.0087 (S = Σ|x_j| = 4.02): the mutant's enclosure (half-width u·S plus one step,
+// about 4.02u) misses o'_0, the kernel's (8.0u·S = 32u) holds it. The half extent h_0 is
+// put between the two, so that exactly -h_0 - o'_0 < 0 (the origin lies inside slab 0,
+// whose entry t_0 = (-h_0 - o'_0)/a_0 = -2.4e-16 is before t_min = 0: face -1, t_enter =
+// 0), while the mutant's enclosure of t_0 lies above 0: it takes slab 0 as entered after
+// t_min and answers face 0 with t_enter = t_0 < t_min.
+// Found by a search over axes and origins near powers of two with the centre a few bits
+// below the origin (so that Δ~_j rounds), x_2 of the opposite sign to x_0 and x_1;
+// checked here by the oracle.
+TEST(BoundWitnessDouble, ObbFrameBoundGamma1) {
+    const double a[3] = {0x1.013d74d1582d1p+0, 0x1.00066681a867ep+0, -0x1.01710de6c62afp+0};
+    Mat3<double> axes;
+    axes << a[0], 0, 0, a[1], 1, 0, a[2], 0, 1;
+    const Obb<double> box{Vec3<double>(-0x1.3c04b3b0b78b0p-21, -0x1.8e7110424de08p-24, -0x1.8b10f71880228p-28), axes,
+                          Vec3<double>(0x1.1e9c90ade8375p-7, 4, 4)};
+    const Ray<double> ray{Vec3<double>(0x1.0004c6e2782aap+0, 0x1.002b6d5e64a65p+0, 0x1.00670b1977eb7p+1),
+                          Vec3<double>(1, 0, 0)};
+    // o'_0 and S as the frame computes them, and the exact o'_0.
+    double op = 0, S = 0;
+    for (int j = 0; j < 3; ++j) {
+        const double x = mul(a[j], ray.origin[j] - box.center[j]);
+        op += x;
+        S += std::abs(x);
+    }
+    using BD = detail::BigDyadic;
+    BD exact_op(0.0);
+    for (int j = 0; j < 3; ++j) exact_op = exact_op + BD(a[j]) * (BD(ray.origin[j]) - BD(box.center[j]));
+    // The realized error exceeds 2u·S, and the mutant's enclosure (its bound and its
+    // outward steps) lies wholly below o'_0; the kernel's holds it.
+    EXPECT_EQ((exact_op - BD(op) - BD(2 * u * S)).sign(), 1);
+    const double e_mutant = detail::gamma<double>(1) * S + 0x1p-1022, e_kernel = 2 * detail::gamma<double>(4) * S + 0x1p-1022;
+    EXPECT_EQ((exact_op - BD(detail::step_up(op + e_mutant))).sign(), 1);
+    EXPECT_EQ((exact_op - BD(detail::step_up(op + e_kernel))).sign(), -1);
+    // Exactly, -h_0 - o'_0 < 0 (t_0 < 0: the origin is inside slab 0), while the mutant's
+    // enclosure of the numerator lies above 0.
+    EXPECT_EQ((-BD(box.half_extent[0]) - exact_op).sign(), -1);
+    EXPECT_GT(-box.half_extent[0] - detail::step_up(op + e_mutant), 0.0);
+    const oracle::Exact<double> exact = oracle::exact(ray, box);
+    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
+    EXPECT_EQ(exact.face, -1) << exact;
+    EXPECT_EQ(intersect(ray, box, certified).face, -1) << repro(ray, box);
+    EXPECT_EQ(intersect(ray, box, certified).t_enter, 0.0) << repro(ray, box);
+    expect_contract(ray, box);
+}
