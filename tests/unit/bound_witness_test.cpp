@@ -372,3 +372,41 @@ TEST(BoundWitnessDouble, ObbFrameBoundGamma1) {
     EXPECT_EQ(intersect(ray, box, certified).t_enter, 0.0) << repro(ray, box);
     expect_contract(ray, box);
 }
+
+// aabb-common-bound-gamma1: the certified Aabb full query's winners (aabb_certified_common
+// in ray_aabb.hpp): the largest entry value m's axis wins certainly when the runner-up m2
+// lies below m's lower bound m - (K|m| + eta), K = 2·gamma(3) (m2 needs no bound of its
+// own: the derivation is at the code); the mutant shrinks that bound to gamma(1)|m| +
+// eta.
+// The ray enters slab 0 at t_0 = (lo_0 - o_0)/d_0 and slab 1 at t_1 = (lo_1 - o_1)/d_1,
+// lo_1 put on the largest double with t_1 <= t_0: exactly, t_0 - t_1 = 1.5e-6·u|t| (u =
+// 2^-53, t ~ 0.50019), so slab 0 is entered last: face 0. Each computed value is
+// fl(fl(lo - o)·fl(1/d)); the roundings fall apart: for t_0 by -1.00, -0.54 and -0.59
+// times u|x| (lo_0 - o_0 and 1/d_0 just above powers of two), -2.13u|t| in all; for t_1
+// by +0.88, +0.35 and +0.64, +1.87u|t| in all. So t_1~ - t_0~ = 4.00u|t| (two ulps): t_0~
+// lies below the mutant's lower bound of t_1~ (one ulp below it), and the mutant takes
+// slab 1 as the certain winner (face 2). The kernel's bound (6u|t~|, three ulps) does not
+// separate them; the general path finds face 0.
+// Found by a search over values near powers of two for slab 0, the entry of slab 1 put
+// on the double just below t_0 for random d_1 and o_1 until its own roundings fell
+// upward; checked here by the oracle.
+TEST(BoundWitnessDouble, AabbCommonBoundGamma1) {
+    const Aabb<double> box{Vec3<double>(0x1.0013f6901d967p+0, -0x1.8f3716eace106p-20, -0x1p20), Vec3<double>(0x1p20, 0x1p20, 0x1p20)};
+    const Ray<double> ray{Vec3<double>(-0x1.0000be95a2326p+0, -0x1.00199f603de66p-3, 0),
+                          Vec3<double>(0x1.ffe313f0664cep+1, 0x1.000005c28917cp-2, 1)};
+    // The two computed values as the lanes compute them, and the winners' check with the
+    // shrunk and with the kernel's bound.
+    const double t0 = mul(box.lo[0] - ray.origin[0], 1 / ray.direction[0]);
+    const double t1 = mul(box.lo[1] - ray.origin[1], 1 / ray.direction[1]);
+    EXPECT_GT(t1 - t0, 3.9 * u * std::abs(t1));
+    EXPECT_LT(t0, t1 - (mul(std::abs(t1), detail::gamma<double>(1)) + 0x1p-1022));
+    EXPECT_GE(t0, t1 - (mul(std::abs(t1), 2 * detail::gamma<double>(3)) + 0x1p-1022));
+    using BD = detail::BigDyadic;  // exactly, t_0 > t_1: (lo_0 - o_0)·d_1 > (lo_1 - o_1)·d_0 (d > 0)
+    EXPECT_EQ(((BD(box.lo[0]) - BD(ray.origin[0])) * BD(ray.direction[1]) -
+               (BD(box.lo[1]) - BD(ray.origin[1])) * BD(ray.direction[0])).sign(), 1);
+    const oracle::Exact<double> exact = oracle::exact(ray, box);
+    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
+    EXPECT_EQ(exact.face, 0) << exact;
+    EXPECT_EQ(intersect(ray, box, certified).face, 0) << repro(ray, box);
+    expect_contract(ray, box);
+}

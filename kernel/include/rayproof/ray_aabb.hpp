@@ -187,10 +187,11 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 // earliest exit) lies in [max(lo(m), limit), max(hi(m), limit)], limit = t_min in lane
 // 0 and -t_max in lane 1: so the verdict is certain when the entry's and the exit's
 // enclosures are disjoint, and needs no winner (this is all the verdict query uses).
-// The full query also needs the winners: an axis's identity is certain when m2's upper
-// bound lies below m's lower bound (m2's bound is the largest of the losers'), the
-// limit wins certainly when hi(m) lies below it. Then both winners are rounded
-// faithfully, in the two lanes at once (the correction and its derivation are below).
+// The full query also needs the winners: an axis's identity is certain when m2 lies
+// below m's lower bound lo(m) (m2 needs no bound of its own: the derivation is at
+// aabb_certified_common), the limit wins certainly when hi(m) lies below it. Then both
+// winners are rounded faithfully, in the two lanes at once (the correction and its
+// derivation are below).
 // Everything runs branch-free (the verdict, the winning axes and the signs of d are as
 // random as the rays); one well-predicted branch hands anything these checks cannot
 // vouch for (close values, overflow, extreme exponents) to the general path,
@@ -330,7 +331,6 @@ template <class T> RAYPROOF_ALWAYS_INLINE int aabb_verdict_common(const Ray<T>& 
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
     using namespace lanes;
-    constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022;
     const AabbLanes L = aabb_lanes(r, b);
     const D2 d01 = L.d01, d22 = L.d22, m = L.m, limit = L.limit, m_lo = L.m_lo, m_hi = L.m_hi;
     // The runner-up m2 per lane, and the winning axes (w: entry, v: exit) from the lane
@@ -339,9 +339,40 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>&
     const D2 m2 = max(L.f01, min(L.v01, L.V[2]));
     const int c01 = bits(L.V[1] > L.V[0]), c2 = bits(L.V[2] > L.v01), c = c01 & ~c2;
     const int w = (c & 1) | ((c2 & 1) << 1), v = ((c >> 1) & 1) | (c2 & 2);
-    const D2 m2_hi = m2 + (abs(m2) * splat(K) + splat(eta));
-    // Per lane: the axis certainly wins, or the limit certainly does.
-    const M2 axis_wins = (m2_hi < m_lo) & (m_lo > limit), limit_wins = m_hi < limit;
+    // Per lane: the axis certainly wins, or the limit certainly does. The axis of m wins
+    // certainly when m2 < m_lo = fl(m - b), b = fl(fl(K|m|) + eta), K = 2·gamma(3): m's
+    // lower bound carries about twice m's own error, which covers m2's too, so m2 needs
+    // no bound (any fl(m2 + c|m2|) >= m2 would be proven alike, and c = 0 is the tight
+    // one; the check spends all of K). With t_A, t_B the exact values of m's and m2's
+    // axes, ufp(x) = 2^floor(log2|x|), u = 2^-53, all values normal (|m| in [2^-400,
+    // 2^400] for double, checked below; in [2^-277, 2^278] for float input, see there):
+    //   t~ = fl(fl(s)·fl(1/d)) = fl(t(1 + α)(1 + β)), |α|, |β| <= u:
+    //     e(t~) = |t~ - t| <= u·ufp(t~) + 2u(1 + 4u)|t~| <= 3.1u|t~|        (E)
+    //   K = 2·fl(3u/(1 - 3u)) >= 6u, so b >= fl(K|m|) >= 6u(1 - u)|m|
+    //   m2 < m_lo, two doubles: m_lo - m2 >= 2u·ufp(the one of smaller magnitude)
+    //   m > 0, 0 < m2 < m, 2^k = ufp(m):
+    //     m_lo <= (m - b) + u·ufp(m - b) <= m - b + u·2^k
+    //     m - m2 >= b - u·2^k + 2u·ufp(m2)
+    //     t_A - t_B >= (m - m2) - e(m) - e(m2)                           (E for both)
+    //               >= 6u(1 - u)m - u2^k + 2u·ufp(m2) - (u2^k + 2u(1 + 4u)m)
+    //                  - (u·ufp(m2) + 2u(1 + 4u)m2)                      (m2 < m)
+    //               >= 2u(m - 2^k) + u·ufp(m2) - 22u²m > 0 when m2 >= m/4 (ufp(m2) > m/8);
+    //     m2 < m/4: t_B <= 1.01·m2 < 0.26m < t_A
+    //   m < 0, m2 < m, a = |m|, a2 = |m2| = a + G, 2^k = ufp(a):
+    //     |m_lo| >= (a + b) - u·ufp(a + b), ufp(m_lo) >= ufp(a + b) >= 2^k
+    //     a2 >= |m_lo| + 2u·ufp(m_lo) >= a + b + u2^k, so G >= 6u(1 - u)a + u2^k
+    //     t_A - t_B >= G - e(m) - e(m2)
+    //               >= G - (u2^k + 2u(1 + 4u)a) - (u·ufp(a2) + 2u(1 + 4u)(a + G))
+    //               >= 2ua - u·ufp(a2) - 2uG - 26u²a          (the first G by its bound)
+    //               >= u(a - 3G) - 26u²a > 0 when G <= a/4       (ufp(a2) <= a2 = a + G);
+    //     G > a/4: t_A - t_B >= G - 3.1u(a + a2) >= G(1 - 27.9u) > 0     (a + a2 < 9G)
+    //   m > 0 >= m2: t_A >= 0.99m > 0 and t_B <= 0 (rounding keeps the sign; an
+    //     underflowed m2 == 0 is within 2^-1074 of t_B, far below t_A)
+    //   m == 0: only from s == 0, t_A = 0 (fl(p - o) == 0 iff p == o; the double path
+    //     checks s == 0 or |m| >= 2^-400, float products do not underflow), m_lo = -eta
+    //     and m2 < -eta < 0, so t_B < 0
+    // So t_B < t_A whenever the check passes, ties included.
+    const M2 axis_wins = (m2 < m_lo) & (m_lo > limit), limit_wins = m_hi < limit;
     const M2 hit = (axis_wins | limit_wins) & both_lane0(L.proven), miss = both_lane1(L.proven);
     // The winners rounded faithfully, computed on every path (discarded when a limit
     // wins, or on a miss). Double input (float input below needs none of this): lane 0
