@@ -320,56 +320,59 @@ TEST(BoundWitnessDouble, SphereCheapSignsGamma1) {
 // fl(o'_i) ± (2·gamma(4)·Σ|a_ji Δ~_j| + 2^-1022) stepped one double outward, the mutant
 // shrinks to gamma(1)·Σ|a_ji Δ~_j| (and that of d'_i to gamma(1)·Σ|a_ji d_j|).
 // Axes 1 and 2 are e_1 and e_2 and the ray's direction is e_0, so d'_1 = d'_2 = 0: the
-// ray is parallel to those slabs (and inside them), the straight-line path declines
-// (it needs every |d'_i| well away from 0) and the general path decides. Slab 0 has the
-// axis a = (a_0, a_1, a_2) ~ (1, 1, -1) and d'_0 = a_0 exactly. Computed, o'_0 =
-// fl(fl(x_0 + x_1) + x_2) with x_j = fl(a_j·fl(o_j - c_j)) ~ (1, 1, -2): every rounding
-// moves o'_0 down, by (in units of u = 2^-53, absolute): Δ~_0 and x_0 -0.72u|x_0| and
-// -0.97u|x_0| (1.70u), Δ~_1 and x_1 -0.29u|x_1| and -0.90u|x_1| (1.19u), Δ~_2 and x_2
-// +0.90u|x_2| and -0.81u|x_2| with a_2 < 0 (3.44u), x_0 + x_1 -2.0u (its half-ulp), and
-// the last sum is exact (Sterbenz). So fl(o'_0) lies 8.33u = 2.07u·S below o'_0 ~
-// -0.0087 (S = Σ|x_j| = 4.02): the mutant's enclosure (half-width u·S plus one step,
-// about 4.02u) misses o'_0, the kernel's (8.0u·S = 32u) holds it. The half extent h_0 is
-// put between the two, so that exactly -h_0 - o'_0 < 0 (the origin lies inside slab 0,
-// whose entry t_0 = (-h_0 - o'_0)/a_0 = -2.4e-16 is before t_min = 0: face -1, t_enter =
-// 0), while the mutant's enclosure of t_0 lies above 0: it takes slab 0 as entered after
-// t_min and answers face 0 with t_enter = t_0 < t_min.
-// Found by a search over axes and origins near powers of two with the centre a few bits
-// below the origin (so that Δ~_j rounds), x_2 of the opposite sign to x_0 and x_1;
-// checked here by the oracle.
-TEST(BoundWitnessDouble, ObbFrameBoundGamma1) {
-    const double a[3] = {0x1.013d74d1582d1p+0, 0x1.00066681a867ep+0, -0x1.01710de6c62afp+0};
-    Mat3<double> axes;
-    axes << a[0], 0, 0, a[1], 1, 0, a[2], 0, 1;
-    const Obb<double> box{Vec3<double>(-0x1.3c04b3b0b78b0p-21, -0x1.8e7110424de08p-24, -0x1.8b10f71880228p-28), axes,
-                          Vec3<double>(0x1.1e9c90ade8375p-7, 4, 4)};
-    const Ray<double> ray{Vec3<double>(0x1.0004c6e2782aap+0, 0x1.002b6d5e64a65p+0, 0x1.00670b1977eb7p+1),
-                          Vec3<double>(1, 0, 0)};
+// ray is parallel to those slabs (and inside them), the straight-line path declines (it
+// needs every |d'_i| well away from 0) and the general path decides. Slab 0 has the axis
+// a ~ (1, 1.1, -1.1) and d'_0 = a_0 exactly. Every input is a float (the witness serves
+// both scalars; the frame computes in double). Computed, o'_0 = fl(fl(x_0 + x_1) + x_2)
+// with x_j = fl(a_j·fl(o_j - c_j)) ~ (1, 1.1, -2.3) (the centre 2^-34 and below, so that
+// o_j - c_j rounds): every rounding moves o'_0 down, by (in units of u = 2^-53,
+// absolute) Δ~_0 and x_0 -0.86u|x_0| and -0.80u|x_0| (1.66u), Δ~_1 and x_1 -0.69u|x_1|
+// and -0.79u|x_1| (1.63u), Δ~_2 and x_2 +0.77u|x_2| and -0.60u|x_2| with a_2 < 0 (3.13u),
+// x_0 + x_1 -2.0u (its half-ulp), and the last sum is exact (Sterbenz). So fl(o'_0) lies
+// 8.43u = 1.92u·S below o'_0 ~ -0.18 (S = Σ|x_j| = 4.39): the mutant's enclosure
+// (half-width u·S and one step, 4.6u) misses o'_0, the kernel's (8u·S = 35u) holds it.
+// The half extent h_0 is the float next to -o'_0, so slab 0 is entered at t_0 = (-h_0 -
+// o'_0)/a_0 ~ -1.35e-9, and t_min is the float at or just above t_0: exactly, t_min wins
+// the tie rule (face -1), while the mutant's enclosure of t_0 lies above t_min, so it
+// takes slab 0 as entered after t_min and answers face 0.
+// Found by a search over float axes and origins near powers of two with the centre far
+// below the origin, x_2 of the opposite sign to x_0 and x_1; checked here by the oracle.
+TYPED_TEST(BoundWitness, ObbFrameBoundGamma1) {
+    using T = TypeParam;
+    const double a[3] = {0x1.0023a2p+0, 0x1.1a7acp+0, -0x1.1efa36p+0};
+    Mat3<T> axes;
+    axes << T(a[0]), 0, 0, T(a[1]), 1, 0, T(a[2]), 0, 1;
+    const Obb<T> box{Vec3<T>(T(-0x1.70b72cp-43), T(0x1.d7d1a8p-36), T(0x1.49bf32p-34)), axes, Vec3<T>(T(0x1.70992p-3), 4, 4)};
+    Ray<T> ray{Vec3<T>(T(0x1.003718p+0), T(0x1.000d2ep+0), T(0x1.04e94p+1)), Vec3<T>(1, 0, 0)};
+    ray.t_min = T(-0x1.71fbe8p-30);
     // o'_0 and S as the frame computes them, and the exact o'_0.
     double op = 0, S = 0;
     for (int j = 0; j < 3; ++j) {
-        const double x = mul(a[j], ray.origin[j] - box.center[j]);
+        const double x = mul(a[j], double(ray.origin[j]) - double(box.center[j]));
         op += x;
         S += std::abs(x);
     }
     using BD = detail::BigDyadic;
     BD exact_op(0.0);
-    for (int j = 0; j < 3; ++j) exact_op = exact_op + BD(a[j]) * (BD(ray.origin[j]) - BD(box.center[j]));
-    // The realized error exceeds 2u·S, and the mutant's enclosure (its bound and its
-    // outward steps) lies wholly below o'_0; the kernel's holds it.
-    EXPECT_EQ((exact_op - BD(op) - BD(2 * u * S)).sign(), 1);
+    for (int j = 0; j < 3; ++j) exact_op = exact_op + BD(a[j]) * (BD(double(ray.origin[j])) - BD(double(box.center[j])));
+    // The realized error exceeds 1.9u·S; the mutant's enclosure (its bound and its
+    // outward steps) lies wholly below o'_0, the kernel's holds it.
+    EXPECT_EQ((exact_op - BD(op) - BD(1.9 * u * S)).sign(), 1);
     const double e_mutant = detail::gamma<double>(1) * S + 0x1p-1022, e_kernel = 2 * detail::gamma<double>(4) * S + 0x1p-1022;
-    EXPECT_EQ((exact_op - BD(detail::step_up(op + e_mutant))).sign(), 1);
+    const detail::Interval<double> op_mutant(detail::step_down(op - e_mutant), detail::step_up(op + e_mutant));
+    EXPECT_EQ((exact_op - BD(op_mutant.hi)).sign(), 1);
     EXPECT_EQ((exact_op - BD(detail::step_up(op + e_kernel))).sign(), -1);
-    // Exactly, -h_0 - o'_0 < 0 (t_0 < 0: the origin is inside slab 0), while the mutant's
-    // enclosure of the numerator lies above 0.
-    EXPECT_EQ((-BD(box.half_extent[0]) - exact_op).sign(), -1);
-    EXPECT_GT(-box.half_extent[0] - detail::step_up(op + e_mutant), 0.0);
-    const oracle::Exact<double> exact = oracle::exact(ray, box);
+    // The mutant's enclosure of t_0, as the frame forms it, lies above t_min; exactly,
+    // t_0 <= t_min: (-h_0 - o'_0) - t_min·a_0 <= 0 (a_0 > 0).
+    const double h = double(box.half_extent[0]), ed = detail::gamma<double>(1) * a[0] + 0x1p-1022;
+    const detail::Interval<double> dp_mutant(detail::step_down(a[0] - ed), detail::step_up(a[0] + ed));
+    const detail::Interval<double> t0_mutant = (detail::Interval<double>(-h) - op_mutant) / dp_mutant;
+    EXPECT_GT(t0_mutant.lo, double(ray.t_min));
+    EXPECT_EQ((-BD(h) - exact_op - BD(double(ray.t_min)) * BD(a[0])).sign(), -1);
+    const oracle::Exact<T> exact = oracle::exact(ray, box);
     ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
     EXPECT_EQ(exact.face, -1) << exact;
     EXPECT_EQ(intersect(ray, box, certified).face, -1) << repro(ray, box);
-    EXPECT_EQ(intersect(ray, box, certified).t_enter, 0.0) << repro(ray, box);
     expect_contract(ray, box);
 }
 
@@ -378,33 +381,33 @@ TEST(BoundWitnessDouble, ObbFrameBoundGamma1) {
 // lies below m's lower bound m - (K|m| + eta), K = 2·gamma(3) (m2 needs no bound of its
 // own: the derivation is at the code); the mutant shrinks that bound to gamma(1)|m| +
 // eta.
-// The ray enters slab 0 at t_0 = (lo_0 - o_0)/d_0 and slab 1 at t_1 = (lo_1 - o_1)/d_1,
-// lo_1 put on the largest double with t_1 <= t_0: exactly, t_0 - t_1 = 1.5e-6·u|t| (u =
-// 2^-53, t ~ 0.50019), so slab 0 is entered last: face 0. Each computed value is
-// fl(fl(lo - o)·fl(1/d)); the roundings fall apart: for t_0 by -1.00, -0.54 and -0.59
-// times u|x| (lo_0 - o_0 and 1/d_0 just above powers of two), -2.13u|t| in all; for t_1
-// by +0.88, +0.35 and +0.64, +1.87u|t| in all. So t_1~ - t_0~ = 4.00u|t| (two ulps): t_0~
-// lies below the mutant's lower bound of t_1~ (one ulp below it), and the mutant takes
+// The ray enters slabs 0 and 1 at the same t exactly (t ~ 1.00018): slab 1's lo, o and d
+// are slab 0's times 5/16 (every input a float, so the witness serves both scalars), and
+// the tie goes to the lower axis: face 0. Each computed value is fl(fl(lo - o)·fl(1/d)) in
+// double; the roundings fall apart: for slab 0 by -0.87, -0.88 and -0.56 times u|x| (u =
+// 2^-53; lo - o and 1/d_0 just above powers of two), -2.31u|t| in all; for slab 1 by
+// +0.72, +0.62 and +0.34, +1.69u|t| in all. So t_1~ - t_0~ = 4.00u|t| (two ulps): t_0~
+// lies below the mutant's lower bound of t_1~ (one ulp below t_1~), and the mutant takes
 // slab 1 as the certain winner (face 2). The kernel's bound (6u|t~|, three ulps) does not
-// separate them; the general path finds face 0.
-// Found by a search over values near powers of two for slab 0, the entry of slab 1 put
-// on the double just below t_0 for random d_1 and o_1 until its own roundings fell
-// upward; checked here by the oracle.
-TEST(BoundWitnessDouble, AabbCommonBoundGamma1) {
-    const Aabb<double> box{Vec3<double>(0x1.0013f6901d967p+0, -0x1.8f3716eace106p-20, -0x1p20), Vec3<double>(0x1p20, 0x1p20, 0x1p20)};
-    const Ray<double> ray{Vec3<double>(-0x1.0000be95a2326p+0, -0x1.00199f603de66p-3, 0),
-                          Vec3<double>(0x1.ffe313f0664cep+1, 0x1.000005c28917cp-2, 1)};
-    // The two computed values as the lanes compute them, and the winners' check with the
-    // shrunk and with the kernel's bound.
-    const double t0 = mul(box.lo[0] - ray.origin[0], 1 / ray.direction[0]);
-    const double t1 = mul(box.lo[1] - ray.origin[1], 1 / ray.direction[1]);
+// separate them; the general path finds the tie and face 0.
+// Found by a search over slab 0's values near powers of two (o far below lo, so that lo -
+// o rounds) and slab 1 scaled by small odd multiples of powers of two until the two
+// values' roundings fell apart; checked here by the oracle.
+TYPED_TEST(BoundWitness, AabbCommonBoundGamma1) {
+    using T = TypeParam;
+    const Aabb<T> box{Vec3<T>(T(0x1.0001ep+0), T(0x1.400258p-2), T(-0x1p20)), Vec3<T>(T(0x1p20), T(0x1p20), T(0x1p20))};
+    const Ray<T> ray{Vec3<T>(T(-0x1.29f0ep-37), T(-0x1.746d18p-39), T(0)), Vec3<T>(T(0x1.ffecp-1), T(0x1.3ff38p-2), T(1))};
+    // The two computed values as the lanes compute them (in double), and the winners'
+    // check with the shrunk and with the kernel's bound.
+    const double t0 = mul(double(box.lo[0]) - double(ray.origin[0]), 1 / double(ray.direction[0]));
+    const double t1 = mul(double(box.lo[1]) - double(ray.origin[1]), 1 / double(ray.direction[1]));
     EXPECT_GT(t1 - t0, 3.9 * u * std::abs(t1));
     EXPECT_LT(t0, t1 - (mul(std::abs(t1), detail::gamma<double>(1)) + 0x1p-1022));
     EXPECT_GE(t0, t1 - (mul(std::abs(t1), 2 * detail::gamma<double>(3)) + 0x1p-1022));
-    using BD = detail::BigDyadic;  // exactly, t_0 > t_1: (lo_0 - o_0)·d_1 > (lo_1 - o_1)·d_0 (d > 0)
-    EXPECT_EQ(((BD(box.lo[0]) - BD(ray.origin[0])) * BD(ray.direction[1]) -
-               (BD(box.lo[1]) - BD(ray.origin[1])) * BD(ray.direction[0])).sign(), 1);
-    const oracle::Exact<double> exact = oracle::exact(ray, box);
+    using BD = detail::BigDyadic;  // exactly, t_0 == t_1: (lo_0 - o_0)·d_1 == (lo_1 - o_1)·d_0
+    EXPECT_EQ(((BD(double(box.lo[0])) - BD(double(ray.origin[0]))) * BD(double(ray.direction[1])) -
+               (BD(double(box.lo[1])) - BD(double(ray.origin[1]))) * BD(double(ray.direction[0]))).sign(), 0);
+    const oracle::Exact<T> exact = oracle::exact(ray, box);
     ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
     EXPECT_EQ(exact.face, 0) << exact;
     EXPECT_EQ(intersect(ray, box, certified).face, 0) << repro(ray, box);
