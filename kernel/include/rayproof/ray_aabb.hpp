@@ -202,7 +202,8 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conse
 // of t; the ends t~ ∓ (K|t~| + eta), K = 2·gamma(3), eta = 2^-1022 (the smallest
 // normal: a subnormal constant would slow every query on processors that take an
 // assist on subnormal operands), cover that and their own two roundings (see the header
-// comment).
+// comment). The full query's winners' check rests on the same lower bound and spends all
+// of K (its derivation is at aabb_certified_common): a smaller K needs a new one there.
 // Validity and overflow: this path answers only when all six computed values are
 // finite and so are the directions' terms of the same probe (4·d_i for double, d_i for
 // float). A finite 4·d_i means |d_i| < 2^1022, so |fl(1/d_i)| >= 2^-1022 is normal; a
