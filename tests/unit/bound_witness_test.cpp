@@ -387,3 +387,64 @@ TEST(BoundWitnessDouble, CompensatedBoundGamma1) {
     EXPECT_EQ(intersect(ray, box, certified).face, 2 * 0 + side) << repro(ray, box);
     expect_contract(ray, box);
 }
+
+// plane-verdict-bound-gamma1: the certified Plane verdict filter (plane_verdict_common in
+// ray_plane.hpp), whose bound e = fl(gamma(4)·S~) + 2^-1022 of N~ and D~, and with it
+// E = 2·fl(e_N + fl(|t_min|·e_D)) of X~ = sigma·(N~ - fl(t_min·D~)), the mutant shrinks
+// to gamma(1).
+// The ray crosses the plane just after t_min: exactly, A = N - t_min·D = +0.37u (u =
+// 2^-53, D > 0), a hit. N ~ -1 is dominated by n_0·o_0 and D ~ 1 by n_0·d_0, both just
+// above a power of two, where a rounding can reach u|x|, the other terms small (their
+// products' roundings are below 0.01u): N~ comes out 2.88u|N~| low (the product n_0·o_0
+// and the three additions round by 0.89, 0.98, 0.76 and 0.25 times u|x|, all the same
+// way), D~ 2.01u|D~| low (n_0·d_0 by 0.69, the two additions by 0.37 and 0.95), and
+// fl(t_min·D~) 0.49u high (t_min ~ -1). X~ = -5u, off by 5.37u = 2.69u·M with M =
+// S~_N + |t_min|·S~_D ~ 2.0: the mutant's E = 2.0u·M puts X~ below -E, and the filter
+// answers miss (verdict(), and the full query, which takes the filter's misses). The
+// kernel's E = 8.0u·M decides nothing there; the full query finds the hit.
+// Found by a search over planes and rays with n_0, o_0 and d_0 just above 1 in
+// magnitude and the other terms small, t_min put on the doubles next to the exact t;
+// checked here exactly and by the oracle.
+TEST(BoundWitnessDouble, PlaneVerdictBoundGamma1) {
+    const Plane<double> plane{Vec3<double>(-0x1.00041f1dff5f2p+0, 0x1.9fc744a0239a4p-27, -0x1.5f1471b950fe9p-10),
+                              0x1.294181839f3dep-18};
+    Ray<double> ray{Vec3<double>(-0x1.002b7e29eddfdp+0, -0x1.be65600f66613p+0, 0x1.66a7f38f1d5acp+0),
+                    Vec3<double>(-0x1.002cc8c793d8p+0, -0x1.d0e46b1bfdb05p-1, -0x1.03a2dd4d5fc36p+0)};
+    ray.t_min = -0x1.fe55c46bf6dd5p-1;
+    // N~, D~, their magnitude sums and X~ (lane 0) as the filter computes them.
+    double sum_n = -plane.offset, d = 0, mag_n = std::abs(plane.offset), mag_d = 0;
+    for (int j = 0; j < 3; ++j) {
+        const double po = mul(plane.normal[j], ray.origin[j]), pd = mul(plane.normal[j], ray.direction[j]);
+        sum_n += po, d += pd;
+        mag_n += std::abs(po), mag_d += std::abs(pd);
+    }
+    const double n = -sum_n;
+    ASSERT_GT(d, 0.0);  // sigma = +1
+    const double x = n - mul(ray.t_min, d);
+    auto bound_e = [&](double k) {
+        const double e_n = mul(mag_n, k) + 0x1p-1022, e_d = mul(mag_d, k) + 0x1p-1022;
+        const double q = e_n + mul(std::abs(ray.t_min), e_d);
+        return std::pair{q + q, e_d};
+    };
+    const auto [e_shrunk, ed_shrunk] = bound_e(detail::gamma<double>(1));
+    const auto [e_kernel, ed_kernel] = bound_e(detail::gamma<double>(4));
+    EXPECT_GT(d, ed_shrunk);  // the shrunk filter takes D's sign as certain
+    EXPECT_LT(x, -e_shrunk);  // and the condition t >= t_min as failed
+    EXPECT_GE(x, -e_kernel);  // the kernel's decides nothing
+    EXPECT_EQ(detail::plane_verdict_common(ray, plane), detail::verdict_declined) << repro(ray, plane);
+    // Exactly, t >= t_min: A = N - t_min·D > 0 with D > 0.
+    using BD = detail::BigDyadic;
+    BD N(plane.offset), D(0.0);
+    for (int j = 0; j < 3; ++j) {
+        N = N - BD(plane.normal[j]) * BD(ray.origin[j]);
+        D = D + BD(plane.normal[j]) * BD(ray.direction[j]);
+    }
+    EXPECT_EQ(D.sign(), 1);
+    EXPECT_EQ((N - BD(ray.t_min) * D).sign(), 1);
+    // X~ is off by more than 2.6u·M.
+    const BD err = BD(x) - (N - BD(ray.t_min) * D);
+    EXPECT_EQ((-err - BD(2.6 * u * (mag_n + std::abs(ray.t_min) * mag_d))).sign(), 1);
+    EXPECT_EQ(oracle::exact(ray, plane).verdict, Verdict::hit);
+    EXPECT_EQ(verdict(ray, plane, certified), Verdict::hit) << repro(ray, plane);
+    expect_contract(ray, plane);
+}
