@@ -413,3 +413,137 @@ TYPED_TEST(BoundWitness, AabbCommonBoundGamma1) {
     EXPECT_EQ(intersect(ray, box, certified).face, 0) << repro(ray, box);
     expect_contract(ray, box);
 }
+
+// compensated-bound-gamma1: the compensated sums of detail/compensated.hpp
+// (quotient_sums), whose bound of the small terms' recursive sum c, 2·gamma(2P - 1)·S~,
+// the mutant shrinks to 2·gamma(1)·S~; pin_quotient trusts it to pin t = N/D between two
+// doubles. Here the Obb's slab 0, entered on side 1 (P = 6 products: the Plane's three
+// cannot align enough roundings, see below).
+// N = h - Σ_j a_j0 (o_j - c_j) with (o_j - c_j) = oc_j + e_j split by two_sum. The first
+// two_sum drops h whole into its error q_1 (|h| ~ 1.01 is below half an ulp of the first
+// product, ~2^54.4), and that product's error is lo_1 ~ 1.01 (a_00 has 20 bits, o_0 33):
+// c = fl(q_1 + lo_1) ~ 2.02, where half an ulp is 2u (u = 2^-53). The second product
+// (a_10 = 1) cancels the first exactly in s; then the products a_20·oc_2, a_00·e_0 and
+// a_10·e_1 (each ~1, 53 bits) enter s ~ -10.3 with rounding errors q of 2^-52 to
+// 1.5·2^-51, and the first two with product errors lo ~ 2^-54..2^-61: each is added to c
+// with bits below c's ulp. Three q's fall exactly on ties of c's grid (2u each, to even,
+// all upward), lo_1's addition is a tie too, and the other additions round the same way
+// by 0.72u and 0.19u (one by -0.004u): c comes out 8.90u above the exact sum of its
+// terms, 4.41u·S~ (S~ = 2.02), more than four additions of at most 2u each could give
+// (the Plane's sums have at most four such additions: one high addition of each is
+// exact, D's first and N's cancellation). |N~| = 4.11·S~, so N is off by 1.07u|N~| and t = N/D (D = d_1,
+// exact) lies 1.05 ulps above c ~ 2·(1 - 2^-17): c is not faithful. The pin's test asks
+// 2·bound + |v| < u|c|·|D| (about u|N~|): the mutant's 2·gamma(1)·S~ = 0.49u|N~| passes
+// it, the kernel's 2·gamma(11)·S~ = 5.4u|N~| does not, and its exact stage rounds t.
+// Slabs 1 and 2 are parallel to the ray (the origin inside them).
+// Found by a search over boxes with that structure (random bits, the small terms' signs
+// and sizes left to chance) for the realized error above 4u·S~ and a pinned, unfaithful
+// candidate; checked here exactly and by the oracle.
+TEST(BoundWitnessDouble, CompensatedBoundGamma1) {
+    const double a00 = 0x1.7f3a6p+0, a20 = -0x1.631c9560ac819p+0;
+    Mat3<double> axes;
+    axes << a00, 1, 0, 1, 0, 0, a20, 0, 1;
+    const Obb<double> box{Vec3<double>(-0x1.4618adf4b2fap+0, 0x1.6a5b6cf653d87p+0, 0x1.17b575c5bf31fp-56), axes,
+                          Vec3<double>(0x1.0328572dae7a3p+0, 0x1p60, 4)};
+    const Ray<double> ray{Vec3<double>(-0x1.b6555864p+53, 0x1.4816d179d1e6ep+54, -0x1.2ce6bbe8a68d8p-1),
+                          Vec3<double>(0, -0x1.096fb67f22619p+2, 0)};
+    const int side = 1;
+    // The kernel's sums, and S~ = Σ|q_k| + Σ|lo_k| summed as quotient_sums sums it.
+    const detail::QuotientSums sums = detail::obb_slab_sums(ray, box, 0, side);
+    ASSERT_TRUE(sums.ok);
+    double s = box.half_extent[0], S = 0;
+    for (int k = 0; k < 6; ++k) {
+        const int j = k % 3;
+        const detail::Pair oc = detail::two_sum(ray.origin[j], -box.center[j]);
+        const detail::Pair p = detail::two_prod(-axes(j, 0), k < 3 ? oc.hi : oc.lo);
+        const detail::Pair x = detail::two_sum(s, p.hi);
+        s = x.hi;
+        S = (S + std::abs(x.lo)) + std::abs(p.lo);
+    }
+    EXPECT_EQ(detail::lanes::lane1(sums.bound), 0.0);  // D = d_1 exactly
+    EXPECT_EQ(detail::lanes::lane0(sums.bound), mul(S, 2 * detail::gamma<double>(11)));
+    // The realized error of N~ = hi + lo: above 4.4u·S~, past the shrunk bound (2u·S~)
+    // and within the kernel's (22u·S~).
+    using BD = detail::BigDyadic;
+    BD N(side ? box.half_extent[0] : -box.half_extent[0]);
+    for (int j = 0; j < 3; ++j) N = N - BD(axes(j, 0)) * (BD(ray.origin[j]) - BD(box.center[j]));
+    const BD err = N - BD(detail::lanes::lane0(sums.hi)) - BD(detail::lanes::lane0(sums.lo));
+    EXPECT_EQ((BD(double(err.sign())) * err - BD(4.4 * u * S)).sign(), 1);
+    EXPECT_EQ((BD(double(err.sign())) * err - BD(detail::lanes::lane0(sums.bound))).sign(), -1);
+    // pin_quotient on the same sums with the shrunk bound pins a candidate that is not
+    // faithful; with the kernel's bound it declines.
+    detail::QuotientSums shrunk = sums;
+    shrunk.bound = detail::lanes::make(mul(S, 2 * detail::gamma<double>(1)), 0.0);
+    const detail::PinnedQuotient wrong = detail::pin_quotient(shrunk);
+    ASSERT_TRUE(wrong.pinned);
+    const BD D(ray.direction[1]);
+    ASSERT_EQ(D.sign(), -1);  // t = N/D lies above c's upper neighbour c⁺: N - c⁺·D < 0
+    EXPECT_EQ((N - BD(std::nextafter(wrong.c, HUGE_VAL)) * D).sign(), -1) << std::hexfloat << wrong.c;
+    EXPECT_FALSE(detail::pin_quotient(sums).pinned);
+    const oracle::Exact<double> exact = oracle::exact(ray, box);
+    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
+    EXPECT_EQ(exact.face, 2 * 0 + side) << exact;
+    EXPECT_EQ(intersect(ray, box, certified).face, 2 * 0 + side) << repro(ray, box);
+    expect_contract(ray, box);
+}
+
+// plane-verdict-bound-gamma1: the certified Plane verdict filter (plane_verdict_common in
+// ray_plane.hpp), whose bound e = fl(gamma(4)·S~) + 2^-1022 of N~ and D~, and with it
+// E = 2·fl(e_N + fl(|t_min|·e_D)) of X~ = sigma·(N~ - fl(t_min·D~)), the mutant shrinks
+// to gamma(1).
+// The ray crosses the plane just after t_min: exactly, A = N - t_min·D = +0.37u (u =
+// 2^-53, D > 0), a hit. N ~ -1 is dominated by n_0·o_0 and D ~ 1 by n_0·d_0, both just
+// above a power of two, where a rounding can reach u|x|, the other terms small (their
+// products' roundings are below 0.01u): N~ comes out 2.88u|N~| low (the product n_0·o_0
+// and the three additions round by 0.89, 0.98, 0.76 and 0.25 times u|x|, all the same
+// way), D~ 2.01u|D~| low (n_0·d_0 by 0.69, the two additions by 0.37 and 0.95), and
+// fl(t_min·D~) 0.49u high (t_min ~ -1). X~ = -5u, off by 5.37u = 2.69u·M with M =
+// S~_N + |t_min|·S~_D ~ 2.0: the mutant's E = 2.0u·M puts X~ below -E, and the filter
+// answers miss (verdict(), and the full query, which takes the filter's misses). The
+// kernel's E = 8.0u·M decides nothing there; the full query finds the hit.
+// Found by a search over planes and rays with n_0, o_0 and d_0 just above 1 in
+// magnitude and the other terms small, t_min put on the doubles next to the exact t;
+// checked here exactly and by the oracle.
+TEST(BoundWitnessDouble, PlaneVerdictBoundGamma1) {
+    const Plane<double> plane{Vec3<double>(-0x1.00041f1dff5f2p+0, 0x1.9fc744a0239a4p-27, -0x1.5f1471b950fe9p-10),
+                              0x1.294181839f3dep-18};
+    Ray<double> ray{Vec3<double>(-0x1.002b7e29eddfdp+0, -0x1.be65600f66613p+0, 0x1.66a7f38f1d5acp+0),
+                    Vec3<double>(-0x1.002cc8c793d8p+0, -0x1.d0e46b1bfdb05p-1, -0x1.03a2dd4d5fc36p+0)};
+    ray.t_min = -0x1.fe55c46bf6dd5p-1;
+    // N~, D~, their magnitude sums and X~ (lane 0) as the filter computes them.
+    double sum_n = -plane.offset, d = 0, mag_n = std::abs(plane.offset), mag_d = 0;
+    for (int j = 0; j < 3; ++j) {
+        const double po = mul(plane.normal[j], ray.origin[j]), pd = mul(plane.normal[j], ray.direction[j]);
+        sum_n += po, d += pd;
+        mag_n += std::abs(po), mag_d += std::abs(pd);
+    }
+    const double n = -sum_n;
+    ASSERT_GT(d, 0.0);  // sigma = +1
+    const double x = n - mul(ray.t_min, d);
+    auto bound_e = [&](double k) {
+        const double e_n = mul(mag_n, k) + 0x1p-1022, e_d = mul(mag_d, k) + 0x1p-1022;
+        const double q = e_n + mul(std::abs(ray.t_min), e_d);
+        return std::pair{q + q, e_d};
+    };
+    const auto [e_shrunk, ed_shrunk] = bound_e(detail::gamma<double>(1));
+    const auto [e_kernel, ed_kernel] = bound_e(detail::gamma<double>(4));
+    EXPECT_GT(d, ed_shrunk);  // the shrunk filter takes D's sign as certain
+    EXPECT_LT(x, -e_shrunk);  // and the condition t >= t_min as failed
+    EXPECT_GE(x, -e_kernel);  // the kernel's decides nothing
+    EXPECT_EQ(detail::plane_verdict_common(ray, plane), detail::verdict_declined) << repro(ray, plane);
+    // Exactly, t >= t_min: A = N - t_min·D > 0 with D > 0.
+    using BD = detail::BigDyadic;
+    BD N(plane.offset), D(0.0);
+    for (int j = 0; j < 3; ++j) {
+        N = N - BD(plane.normal[j]) * BD(ray.origin[j]);
+        D = D + BD(plane.normal[j]) * BD(ray.direction[j]);
+    }
+    EXPECT_EQ(D.sign(), 1);
+    EXPECT_EQ((N - BD(ray.t_min) * D).sign(), 1);
+    // X~ is off by more than 2.6u·M.
+    const BD err = BD(x) - (N - BD(ray.t_min) * D);
+    EXPECT_EQ((-err - BD(2.6 * u * (mag_n + std::abs(ray.t_min) * mag_d))).sign(), 1);
+    EXPECT_EQ(oracle::exact(ray, plane).verdict, Verdict::hit);
+    EXPECT_EQ(verdict(ray, plane, certified), Verdict::hit) << repro(ray, plane);
+    expect_contract(ray, plane);
+}

@@ -129,24 +129,32 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, co
 // to plane_pin for the rest). In double (exact for float inputs), -N = n·o - offset in
 // lane 0 and D = n·d in lane 1 as ((-offset + p_0) + p_1) + p_2 with the products p_j =
 // fl(a_j b_j) (negation being exact, N~ is minus lane 0): each lane is at most 4
-// roundings from its sum, |N~ - N| <= gamma(4)·S_N with S_N = |offset| + Σ|n_j o_j| (and
-// S_D likewise), plus at most 3·2^-1075 from products in the subnormal range. The bound
-// e = fl(2·gamma(4)·S~) + eta, eta = 2^-1022, covers that: S~ (the same sum of the
-// |p_j|, rounded alike) is at least S(1 - gamma(5)) - 2^-1073, so e >= gamma(4)·S·2(1 -
-// gamma(5))(1 - u)^2 + eta/2 >= gamma(4)·S + 3·2^-1075. With sigma = sign(D~), certain
+// roundings from its sum, |N~ - N| <= gamma(4)·S_N with S_N = |offset| + Σ|n_j o_j|, and
+// lane 1 at most 3 (its first addition, 0 + p_0, is exact): |D~ - D| <= gamma(3)·S_D,
+// each plus at most 3·2^-1075 from products in the subnormal range. The bound is
+// e = fl(K·S~) + eta with K = gamma(4) (as rounded, K >= gamma(4)(1 - u) > 4u) and eta =
+// 2^-1022. S~ (the same sum of the |p_j|, rounded alike) is at least S(1 - gamma(5)) -
+// 2^-1073, so
+//     e >= gamma(4)·S·(1 - gamma(5))(1 - u)^3 + eta/2                  (K, fl(K·S~), + eta)
+//     |D~ - D| <= gamma(3)·S_D + 3·2^-1075 < e_D       (gamma(4)(1 - gamma(5))(1 - u)^3 > gamma(3))
+//     |N~ - N| <= gamma(4)·S_N + 3·2^-1075 <= (1 + 2^-49)·e_N    (1/((1 - gamma(5))(1 - u)^3) < 1 + 10u)
+// K is tight for this derivation: e_D must exceed D's own bound, gamma(3)·S_D, after the
+// roundings of S~, of K and of K·S~, and gamma(4) is the smallest gamma(n) that does
+// (gamma(3)(1 - gamma(5))(1 - u)^3 < gamma(3)). With sigma = sign(D~), certain
 // when |D~| > e_D, t = N/D lies in [t_min, t_max] iff A = sigma·N - t_min·|D| >= 0 and
 // C = t_max·|D| - sigma·N >= 0, in lanes 0 and 1. They are computed as X~ = sigma·Y~
 // with Y~ = fl((N~, -N~) + fl((-t_min, t_max)·D~)) (the sign bit of D~ moved onto Y~,
 // exactly); rounding to nearest being symmetric, X~ = fl(fl(±sigma·N~) ∓ fl(limit·|D~|)),
 // and for a finite X~ it is within
-//     e_N + |limit|·e_D + 2u|P~| + u|N~| + 2^-1075
+//     (1 + 2^-49)·e_N + |limit|·e_D + 2u|P~| + u|N~| + 2^-1075
 // of A and C, P~ = fl(limit·D~) (the errors of N~ and D~, then one rounding for the
 // product, one for the sum, 2^-1075 for a product in the subnormal range). |N~| <= S~_N
 // and |D~| <= S~_D (the same sums of the absolute values, rounded alike: rounding is
-// monotone and symmetric), and e >= K(1 - u)·S~ with K = 8u/(1 - 4u), so u|N~| <
-// e_N/7, 2u|P~| <= 2u(1 + u)|limit|·S~_D < |limit|·e_D/3 and 2^-1075 < 2^-52·e_N: the
-// error is below 1.5(e_N + |limit|·e_D) <= E = 2·fl(e_N + fl(|limit|·e_D)) (two
-// roundings, the product's underflow far below e_N, the doubling exact). So X~ >= E
+// monotone and symmetric), and e >= fl(K·S~) >= 4u(1 - u)·S~ - 2^-1075 with e >= eta, so
+// u|N~| < e_N/3.9, 2u|P~| <= 2u(1 + u)|limit|·S~_D < |limit|·e_D/1.9 and 2^-1075 <
+// 2^-52·e_N: the error is below 1.53(e_N + |limit|·e_D), and E = 2·fl(e_N +
+// fl(|limit|·e_D)) >= 1.99(e_N + |limit|·e_D) (two roundings, the product's underflow
+// far below e_N, the doubling exact) covers it. So X~ >= E
 // proves the condition and X~ < -E disproves it. Only for a finite X~: an infinite one
 // from a finite limit is an overflow (of the product or of the sum), which bounds
 // nothing (A can have either sign then), and decides nothing. An infinite limit (t_min = -inf, t_max = +inf) holds
@@ -158,12 +166,12 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, co
 // that overflow S~ or X~, a crossing within the bounds of a limit), else
 // int(Verdict::miss) or int(Verdict::hit).
 // Contraction (detail/eft.hpp): class C1. Fused, p_2 enters N~ and D~ unrounded, which
-// the gamma(4) count allows; |N~| <= S~_N and |D~| <= S~_D then hold up to (1 + u)^2,
-// inside the factors 7 and 3 of slack above; a fused X~ or E has fewer roundings, and a
+// the gamma(4) and gamma(3) counts allow; |N~| <= S~_N and |D~| <= S~_D then hold up to
+// (1 + u)^2, inside the factors 3.9 and 1.9 above; a fused X~ or E has fewer roundings, and a
 // fused X~ cannot overflow through its product, which only removes a case.
 template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>& r, const Plane<T>& p) {
     using namespace lanes;
-    constexpr double K = 2 * gamma<double>(4), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
+    constexpr double K = gamma<double>(4), eta = 0x1p-1022, inf = std::numeric_limits<double>::infinity();
     // The inputs as pairs of doubles (for float, from whole loads of the ray and the
     // plane: lanes::float_quad).
     double f;
