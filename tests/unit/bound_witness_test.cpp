@@ -314,3 +314,56 @@ TEST(BoundWitnessDouble, SphereCheapSignsGamma1) {
     EXPECT_EQ(intersect(ray, sphere, certified).verdict, Verdict::miss) << repro(ray, sphere);
     expect_contract(ray, sphere);
 }
+
+// sphere-threshold-gamma1: the certified Sphere straight-line path's distance certificate
+// (sphere_line in detail/ray_sphere_straight_line.hpp), which answers a miss when the
+// computed distance n of the line from the centre exceeds r by more than the threshold
+// 2·gamma(11)·(n + Σ|Δ~_j| + Σ|P_j|) + 2^-500, shrunk by the mutant to 2·gamma(1)·(...).
+// The errors of the components m~_j = fl(Δ~_j - P_j) across the line (the roundings of
+// Δ~_j, P_j = fl(f·d_j) and the difference) cannot reach that alone: together they are at
+// most u·(Σ|Δ~_j| + Σ|P_j| + Σ|m~_j|). The one that can is along the line: f = fl(b~/a~)
+// off b/a moves the foot of the perpendicular by ε = |f - b/a|·|d|, which n measures in
+// full when the line passes through the centre (l = 0), where the kernel's certificate
+// counts it as gamma(9)·Σ|Δ~_j|. Here o = -9·d exactly and c = 0: the line passes through
+// the centre at t = 9, so a sphere of radius 2^-80 is hit there. Computed (u = 2^-53):
+// a~ is 2.32u·a too large (the square of d_1 ~ 1 by +0.90u·a, the two sums by +0.67u·a
+// and +0.76u·a: a just above a power of two, where a rounding can reach u·a), b~ is 2.42u
+// too small in magnitude (the product d_1·o_1 by 0.83u), and the division adds 0.59u: f =
+// -0x1.1fffffffffffdp+3 is 5.33u·9 short of -9. Every P_j and m~_j is then exact, so n =
+// ε = 5.33u·|Δ|. With Σ|Δ~_j| + Σ|P_j| = 2.46|Δ| - n, the mutant's threshold is
+// 2u·2.46|Δ| = 4.93u·|Δ| (in units of u·(n + Σ|Δ~_j| + Σ|P_j|): n - r is 2.16 of them,
+// the mutant's threshold 2.00): it answers a miss. The kernel's threshold is 22.0 of them
+// (54.2u·|Δ|): it proves nothing and the general path finds the hit.
+// Found by a search over directions with one component near 1 (50-bit mantissas, so that
+// -k·d is exact for small odd k), the centre at 0 on the line; checked here exactly.
+TEST(BoundWitnessDouble, SphereThresholdGamma1) {
+    const Vec3<double> d(-0x1.023224fe26cp-3, 0x1.000001dcf27ap+0, 0x1.00000da7bbep-3);
+    const Ray<double> ray{Vec3<double>(0x1.2278699deb98p+0, -0x1.2000021890c94p+3, -0x1.20000f5cb35cp+0), d};
+    const Sphere<double> sphere{Vec3<double>(0, 0, 0), 0x1p-80};
+    // Exactly, o + 9·d = c: the line passes through the centre (l = 0 < r).
+    using BD = detail::BigDyadic;
+    for (int j = 0; j < 3; ++j) EXPECT_EQ((BD(ray.origin[j]) + BD(9.0) * BD(d[j]) - BD(sphere.center[j])).sign(), 0) << j;
+    // The certificate as sphere_line computes it, against the shrunk threshold.
+    double delta[3];
+    for (int j = 0; j < 3; ++j) delta[j] = ray.origin[j] - sphere.center[j];
+    const double a = (mul(d[0], d[0]) + mul(d[1], d[1])) + mul(d[2], d[2]);
+    const double b = (mul(d[0], delta[0]) + mul(d[1], delta[1])) + mul(d[2], delta[2]);
+    const double f = b / a;
+    double n2 = 0, sum_dl = 0, sum_p = 0;
+    for (int j = 0; j < 3; ++j) {
+        const double p = mul(f, d[j]), m = delta[j] - p;
+        n2 += mul(m, m);
+        sum_dl += std::abs(delta[j]);
+        sum_p += std::abs(p);
+    }
+    const double n = std::sqrt(n2), scale = n + sum_dl + sum_p;
+    const detail::SphereLine line = detail::sphere_line(ray, sphere);
+    EXPECT_EQ(line.n, n);
+    EXPECT_GT(n - sphere.radius, 2 * detail::gamma<double>(1) * scale + 0x1p-500);
+    EXPECT_GT(n - sphere.radius, 2.1 * u * scale);
+    EXPECT_LE(n - sphere.radius, line.threshold);  // the kernel's certificate decides nothing
+    EXPECT_EQ(oracle::exact(ray, sphere).verdict, Verdict::hit);
+    EXPECT_EQ(intersect(ray, sphere, certified).verdict, Verdict::hit) << repro(ray, sphere);
+    EXPECT_EQ(verdict(ray, sphere, certified), Verdict::hit) << repro(ray, sphere);
+    expect_contract(ray, sphere);
+}
