@@ -329,8 +329,8 @@ TEST(BoundWitnessDouble, SphereCheapSignsGamma1) {
 // a~ is 2.32u·a too large (the square of d_1 ~ 1 by +0.90u·a, the two sums by +0.67u·a
 // and +0.76u·a: a just above a power of two, where a rounding can reach u·a), b~ is 2.42u
 // too small in magnitude (the product d_1·o_1 by 0.83u), and the division adds 0.59u: f =
-// -0x1.1fffffffffffdp+3 is 5.33u·9 short of -9. Every P_j and m~_j is then exact, so n =
-// ε = 5.33u·|Δ|. With Σ|Δ~_j| + Σ|P_j| = 2.46|Δ| - n, the mutant's threshold is
+// -0x1.1fffffffffffdp+3 is 5.33u·9 short of -9. The P_j then round by 0.05u|P_j| at most
+// and every m~_j is exact, so n = 5.33u·|Δ| = ε. With Σ|Δ~_j| + Σ|P_j| = 2.46|Δ| - n, the mutant's threshold is
 // 2u·2.46|Δ| = 4.93u·|Δ| (in units of u·(n + Σ|Δ~_j| + Σ|P_j|): n - r is 2.16 of them,
 // the mutant's threshold 2.00): it answers a miss. The kernel's threshold is 22.0 of them
 // (54.2u·|Δ|): it proves nothing and the general path finds the hit.
