@@ -547,3 +547,137 @@ TEST(BoundWitnessDouble, PlaneVerdictBoundGamma1) {
     EXPECT_EQ(verdict(ray, plane, certified), Verdict::hit) << repro(ray, plane);
     expect_contract(ray, plane);
 }
+
+// sphere-threshold-gamma1: the certified Sphere straight-line path's distance certificate
+// (sphere_line in detail/ray_sphere_straight_line.hpp), which answers a miss when the
+// computed distance n of the line from the centre exceeds r by more than the threshold
+// 2·gamma(11)·(n + Σ|Δ~_j| + Σ|P_j|) + 2^-500, shrunk by the mutant to 2·gamma(1)·(...).
+// The errors of the components m~_j = fl(Δ~_j - P_j) across the line (the roundings of
+// Δ~_j, P_j = fl(f·d_j) and the difference) cannot reach that alone: together they are at
+// most u·(Σ|Δ~_j| + Σ|P_j| + Σ|m~_j|). The one that can is along the line: f = fl(b~/a~)
+// off b/a moves the foot of the perpendicular by ε = |f - b/a|·|d|, which n measures in
+// full when the line passes through the centre (l = 0), where the kernel's certificate
+// counts it as gamma(9)·Σ|Δ~_j|. Here o = -9·d exactly and c = 0: the line passes through
+// the centre at t = 9, so a sphere of radius 2^-80 is hit there. Computed (u = 2^-53):
+// a~ is 2.32u·a too large (the square of d_1 ~ 1 by +0.90u·a, the two sums by +0.67u·a
+// and +0.76u·a: a just above a power of two, where a rounding can reach u·a), b~ is 2.42u
+// too small in magnitude (the product d_1·o_1 by 0.83u), and the division adds 0.59u: f =
+// -0x1.1fffffffffffdp+3 is 5.33u·9 short of -9. The P_j then round by 0.05u|P_j| at most
+// and every m~_j is exact, so n = 5.33u·|Δ| = ε. With Σ|Δ~_j| + Σ|P_j| = 2.46|Δ| - n, the mutant's threshold is
+// 2u·2.46|Δ| = 4.93u·|Δ| (in units of u·(n + Σ|Δ~_j| + Σ|P_j|): n - r is 2.16 of them,
+// the mutant's threshold 2.00): it answers a miss. The kernel's threshold is 22.0 of them
+// (54.2u·|Δ|): it proves nothing and the general path finds the hit.
+// Found by a search over directions with one component near 1 (50-bit mantissas, so that
+// -k·d is exact for small odd k), the centre at 0 on the line; checked here exactly.
+TEST(BoundWitnessDouble, SphereThresholdGamma1) {
+    const Vec3<double> d(-0x1.023224fe26cp-3, 0x1.000001dcf27ap+0, 0x1.00000da7bbep-3);
+    const Ray<double> ray{Vec3<double>(0x1.2278699deb98p+0, -0x1.2000021890c94p+3, -0x1.20000f5cb35cp+0), d};
+    const Sphere<double> sphere{Vec3<double>(0, 0, 0), 0x1p-80};
+    // Exactly, o + 9·d = c: the line passes through the centre (l = 0 < r).
+    using BD = detail::BigDyadic;
+    for (int j = 0; j < 3; ++j) EXPECT_EQ((BD(ray.origin[j]) + BD(9.0) * BD(d[j]) - BD(sphere.center[j])).sign(), 0) << j;
+    // The certificate as sphere_line computes it, against the shrunk threshold.
+    double delta[3];
+    for (int j = 0; j < 3; ++j) delta[j] = ray.origin[j] - sphere.center[j];
+    const double a = (mul(d[0], d[0]) + mul(d[1], d[1])) + mul(d[2], d[2]);
+    const double b = (mul(d[0], delta[0]) + mul(d[1], delta[1])) + mul(d[2], delta[2]);
+    const double f = b / a;
+    double n2 = 0, sum_dl = 0, sum_p = 0;
+    for (int j = 0; j < 3; ++j) {
+        const double p = mul(f, d[j]), m = delta[j] - p;
+        n2 += mul(m, m);
+        sum_dl += std::abs(delta[j]);
+        sum_p += std::abs(p);
+    }
+    const double n = std::sqrt(n2), scale = n + sum_dl + sum_p;
+    const detail::SphereLine line = detail::sphere_line(ray, sphere);
+    EXPECT_EQ(line.n, n);
+    EXPECT_GT(n - sphere.radius, 2 * detail::gamma<double>(1) * scale + 0x1p-500);
+    EXPECT_GT(n - sphere.radius, 2.1 * u * scale);
+    EXPECT_LE(n - sphere.radius, line.threshold);  // the kernel's certificate decides nothing
+    EXPECT_EQ(oracle::exact(ray, sphere).verdict, Verdict::hit);
+    EXPECT_EQ(intersect(ray, sphere, certified).verdict, Verdict::hit) << repro(ray, sphere);
+    EXPECT_EQ(verdict(ray, sphere, certified), Verdict::hit) << repro(ray, sphere);
+    expect_contract(ray, sphere);
+}
+
+// sphere-refine-gamma1: the certified Sphere straight-line path's sign of q at a refined
+// root (sign_near in detail/ray_sphere_straight_line.hpp): q(y) = q(x) + δ·σ with δ = y -
+// x, σ = a(2x + δ) + 2b, evaluated as V = fl(v + fl(δ·σ~)) and trusted beyond 2(err_v +
+// |δ|(e_σ + u|σ~|)), e_σ = gamma(7)·(|A~| + 2C) (A~ = fl(a~·fl(2x + δ)), C = Σ|d_j Δ~_j|),
+// which the mutant shrinks to gamma(1)·(|A~| + 2C).
+// The error of σ~ only shows where δ is large (else err_v, whose bound holds 2u|v|,
+// dominates) and where q(y) is smaller than it: here y = 0x1.0014p+1 is a root exactly
+// (o + y·d = (r, 0, 0): c = 0, the products y·d_j and r - y·d_0 are exact), and the line
+// is nearly tangent (the other root lies 5.2e-6·y below, s = |σ|/|A~| = 2.6e-6), so the
+// fast estimate x of the exit root is 63156 ulps short of y and one Newton step lands on
+// y. Computed (u = 2^-53): a~ is 2.37u·a too large and the product A~ rounds up by 0.50u,
+// so A~ is 2.87u·|A~| too large; b~ (b < 0, C = |b|) is 2.20u·|b| too large: σ~ - σ =
+// +2.54u·(|A~| + 2C) (A~ ~ -2b, σ ~ 0). So V = δ·(σ~ - σ) plus err_v's error (3e-5 of the
+// threshold) is 1.27 times the mutant's threshold 2|δ|·u·(|A~| + 2C): the mutant proves
+// q(y) > 0 and q(y-) < 0 and answers t_exit = y-, which is not faithful (the exact exit
+// is the double y itself). The kernel's threshold is 14|δ|·u·(|A~| + 2C) (V is 0.18 of
+// it): it proves nothing there and the general path answers y.
+// Float has no such witness of this form: with float inputs the squares and the products
+// y·d_j are exact, which leaves σ~ too few roundings to exceed the shrunk bound.
+// Found by a search over exact roots y (20-bit y, 33-bit d_1, d_2, a 12-bit d_0 setting
+// the distance s between the roots, 1e-5.5 to 1e-2.5); checked here exactly.
+TEST(BoundWitnessDouble, SphereRefineGamma1) {
+    const Vec3<double> d(0x1.46ep-18, -0x1.756d099fp+0, -0x1.0039f19cp-2);
+    const Ray<double> ray{Vec3<double>(0x1.2a6b11049d796p+1, 0x1.758a3623c06cp+1, 0x1.004df622e03p-1), d};
+    const Sphere<double> sphere{Vec3<double>(0, 0, 0), 0x1.2a6b62c2ffd96p+1};
+    const double y = 0x1.0014p+1, r = sphere.radius;
+    // Exactly, q(y) = 0 (o + y·d = (r, 0, 0)) and q grows there: y is the exact exit.
+    using BD = detail::BigDyadic;
+    BD q = -BD(r) * BD(r), a_x(0.0), b_x(0.0);
+    for (int j = 0; j < 3; ++j) {
+        const BD w = BD(ray.origin[j]) + BD(y) * BD(d[j]);
+        q = q + w * w;
+        a_x = a_x + BD(d[j]) * BD(d[j]);
+        b_x = b_x + BD(d[j]) * BD(ray.origin[j]);
+    }
+    ASSERT_EQ(q.sign(), 0);
+    // The exit root as the fast mode estimates it (the kernel's straight-line path), every
+    // product rounded on its own.
+    double delta[3];
+    for (int j = 0; j < 3; ++j) delta[j] = ray.origin[j] - sphere.center[j];
+    const double a = (mul(d[0], d[0]) + mul(d[1], d[1])) + mul(d[2], d[2]);
+    const double b = (mul(d[0], delta[0]) + mul(d[1], delta[1])) + mul(d[2], delta[2]);
+    const double f = b / a;
+    double n2 = 0, cc = -mul(r, r);
+    for (int j = 0; j < 3; ++j) {
+        const double m = delta[j] - mul(f, d[j]);
+        n2 += mul(m, m);
+        cc += mul(delta[j], delta[j]);
+    }
+    const double n = std::sqrt(n2);
+    ASSERT_LE(n, r);
+    const double disc = mul(a, mul(r - n, r + n));
+    const double qq = -(b + std::copysign(std::sqrt(disc), b));
+    const double x = std::max(qq / a, cc / qq);
+    // One Newton step from x lands on y, 63156 ulps away.
+    const detail::SphereResidual res(detail::double3(ray.origin), detail::double3(d), detail::double3(sphere.center), r);
+    const detail::SphereResidual::Value qx = res.value_at(x);
+    EXPECT_EQ(x - qx.v / (2 * (mul(a, x) + b)), y);
+    const double del = y - x;
+    EXPECT_GT(std::abs(del), 6e4 * (y - detail::step_down(y)));
+    // σ~, V and the thresholds as sign_near computes them.
+    const double A = mul(a, 2 * x + del), sig = A + 2 * b;
+    const double C = (std::abs(mul(d[0], delta[0])) + std::abs(mul(d[1], delta[1]))) + std::abs(mul(d[2], delta[2]));
+    const double V = qx.v + mul(del, sig);
+    auto threshold = [&](double g) {
+        return 2 * (qx.err + std::abs(del) * (mul(g, std::abs(A) + 2 * C) + u * std::abs(sig))) + 0x1p-1000;
+    };
+    EXPECT_GT(V, threshold(detail::gamma<double>(1)));  // the mutant's: q(y) > 0, wrongly
+    EXPECT_GT(V, 1.2 * threshold(detail::gamma<double>(1)));
+    EXPECT_LT(V, threshold(detail::gamma<double>(7)));  // the kernel's: undecided
+    // The realized error of σ~, exactly: more than 2.5u·(|A~| + 2C).
+    const BD sig_err = BD(sig) - (a_x * (BD(2.0) * BD(x) + BD(del)) + BD(2.0) * b_x);
+    EXPECT_EQ((sig_err - BD(2.5 * u * (std::abs(A) + 2 * C))).sign(), 1);
+    const oracle::Exact<double> exact = oracle::exact(ray, sphere);
+    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
+    const Hit<double> h = intersect(ray, sphere, certified);
+    EXPECT_EQ(h.verdict, Verdict::hit) << repro(ray, sphere);
+    EXPECT_EQ(h.t_exit, y) << repro(ray, sphere) << "\n  answer: " << h;
+    expect_contract(ray, sphere);
+}

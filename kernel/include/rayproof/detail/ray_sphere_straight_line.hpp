@@ -156,12 +156,28 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified
     // Newton step x - v/(2(a x + b)) rounded to T gives the candidate g, and the sign of
     // q at g and at a neighbour y of g comes from the exact expansion of the quadratic,
     //     q(y) = q(x) + δ·σ,  δ = y - x (checked exact),  σ = a(2x + δ) + 2b,
-    // evaluated as V = fl(v + fl(δ·σ~)), σ~ = fl(fl(a~·fl(2x + δ)) + 2b~). With
-    // |b~ - b| <= gamma(4)·C (C = Σ|d_j Δ~_j|) and |a~ - a| <= gamma(3)·a,
-    // |σ~ - σ| <= gamma(7)·(|fl(a~·fl(2x + δ))| + 2C) =: e_σ, so
-    //     |V - q(y)| <= err_v + |δ|·e_σ + u|δ σ~| + u|V|/(1 - u),
-    // and the sign of V is q(y)'s when |V| exceeds 2(err_v + |δ|(e_σ + u|σ~|)) + 2^-1000
-    // (the doubling covers u|V| and the bound's own roundings, 2^-1000 underflow).
+    // evaluated as V = fl(v + fl(δ·σ~)), σ~ = fl(A~ + 2b~), A~ = fl(a~·fl(2x + δ)), with a
+    // and b of the exact Δ = o - c. Every rounding counted (θ_k: some |θ_k| <= gamma(k);
+    // the inputs' magnitudes in [2^-300, 2^300] keep d_j Δ~_j and the squares normal):
+    //   fl(2x + δ) = (2x + δ)(1 + θ_1)                                   (2x is exact)
+    //   a~ = Σ d_j²(1 + θ_3)                         (one product, at most two sums)
+    //   A~ = a~·fl(2x + δ)(1 + θ_1) = a(2x + δ)(1 + θ_5)
+    //   |A~ - a(2x + δ)| <= gamma(5)|a(2x + δ)| <= 5u/(1 - 10u)·|A~|
+    //   b~ = Σ d_j Δ_j(1 + θ_4)              (Δ~_j = fl(o_j - c_j), product, two sums)
+    //   C = fl(Σ|fl(d_j Δ~_j)|) >= (1 - u)^3·Σ|d_j Δ~_j| >= (1 - u)^4·Σ|d_j Δ_j|
+    //   |b~ - b| <= gamma(4)·Σ|d_j Δ_j| <= gamma(4)/(1 - u)^4·C,  |b~| <= (1 + u)^2/(1 - u)^2·C
+    //   σ~ = (A~ + 2b~)(1 + θ_1): |σ~ - σ| <= |A~ - a(2x + δ)| + 2|b~ - b| + u(|A~| + 2|b~|)
+    //        <= (6u + O(u²))·|A~| + 2(5u + O(u²))·C <= gamma(7)·(|A~| + 2C) =: e_σ
+    //   fl(δ·σ~) = δ·σ~(1 + θ_1)                 (off by at most u|δ σ~|, plus underflow)
+    //   V = fl(v + fl(δ·σ~)), off by at most u|V|/(1 - u)       (|q(x) - v| <= err_v)
+    //   |V - q(y)| <= B + u|V|/(1 - u),  B = err_v + |δ|·e_σ + u|δ σ~| (+ underflow)
+    // The threshold is 2B as evaluated plus 2^-1000: its six roundings (gamma(7) itself,
+    // the sum and the product of e_σ, the sum with u|σ~|, the product by |δ|, the sum with
+    // err_v) leave it at least 2(1 - u)^6·B, so |V| above it gives
+    //     B + u|V|/(1 - u) < |V|·(1/(2(1 - u)^6) + u/(1 - u)) < |V|:
+    // V has the sign of q(y); the 2^-1000 covers the underflows. The factor 2 is the only
+    // slack: e_σ is not doubled again, and the realized |σ~ - σ| can reach about
+    // 5u|A~| + 8u·C + u|σ~| (every rounding above at its worst, aligned).
     constexpr double g7 = gamma<double>(7), u = unit_roundoff<double>;
     const double cab = std::abs(d[0] * delta[0]) + std::abs(d[1] * delta[1]) + std::abs(d[2] * delta[2]);
     auto refine = [&](double x, T& g) {
@@ -174,7 +190,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified
         const Pair dd = two_sum(double(y), -x);
         const double del = dd.hi;
         const double xs = 2 * x + del, ax = a * xs, sig = ax + 2 * b;
-        const double e_sig = 2 * g7 * (std::abs(ax) + 2 * cab);
+        const double e_sig = g7 * (std::abs(ax) + 2 * cab);
         const double V = qx.v + del * sig;
         const double thr = 2 * (qx.err + std::abs(del) * (e_sig + u * std::abs(sig))) + 0x1p-1000;
         if (dd.lo != 0 || !(thr <= 0x1p1000)) return 2;
