@@ -26,10 +26,20 @@ template <class T> std::array<double, 3> double3(const Vec3<T>& v) { return {dou
 //   W_j² = A_j + a_j and r² = R + ρ exactly, A_0 + A_1 + A_2 - R = σ + x_1 + x_2 + x_3 exactly
 //   (a cascade of two_sum);
 // the small terms τ = (x_1, x_2, x_3, a_j, fl(2 W_j ω_j), fl(ω_j²), -ρ), thirteen in all,
-// each product within u of its own value, summed to L with error <= gamma(12)·Σ|τ|;
-// v = fl(σ + L). Hence
-//   |q(t) - v| <= gamma(13)·Σ|τ| + Σ_j F_j + u|v|/(1 - u),
-// and err = 2(gamma(13)·Σ|τ| + Σ F_j) + 2u|v| + 2^-1000 bounds it: the doubling covers
+// are summed to L by the tree of value_at, t_j = fl(fl(a_j + m_j) + k_j) (m_j = fl(2 W_j ω_j),
+// k_j = fl(ω_j²)), t_x = fl(fl(x_1 + x_2) + x_3), small = fl(...fl(fl(-ρ + t_0) + t_1)... + t_x).
+// A term that passes d roundings is off by at most gamma(d)·|τ_i| ((1 + u)^d - 1 <=
+// gamma(d); Higham, ASNA, 3.1 and 4.2), a product's own rounding counted as one
+// (|p - fl(p)| <= u|fl(p)|, and u + gamma(d) <= gamma(d + 1)); per term, d =
+//   -ρ:     small + t_0, + t_1, + t_2, + t_x                                    4
+//   a_j:    a_j + m_j, + k_j, small + t_j, the 2 - j later + t_i, + t_x          6 - j
+//   m_j:    its product, then as a_j                                            7 - j
+//   k_j:    its product, + k_j, small + t_j, the 2 - j later + t_i, + t_x        6 - j
+//   x_1, x_2: x_1 + x_2, + x_3, small + t_x; x_3: + x_3, small + t_x             3, 2
+// so L is within gamma(7)·Σ|τ| of the terms' exact sum (products unrounded; the deepest
+// term, m_0, sets the 7); v = fl(σ + L). Hence
+//   |q(t) - v| <= gamma(7)·Σ|τ| + Σ_j F_j + u|v|/(1 - u),
+// and err = 2(gamma(7)·Σ|τ| + Σ F_j) + 2u|v| + 2^-1000 bounds it: the doubling covers
 // the roundings of the bound itself. Underflow: a two_prod whose error term is
 // subnormal may round it by up to 2^-1075; β_j carries 2^-1070 for p_j, and 2^-1000
 // covers a_j, ρ and the small products. Exact while nothing overflows: the two_sum
@@ -38,7 +48,8 @@ template <class T> std::array<double, 3> double3(const Vec3<T>& v) { return {dou
 // Contraction (detail/eft.hpp): the splittings are two_prod and two_sum, whose products
 // are rounded() (class C3), so every W_j, A_j, σ and x_k is as derived; ω_j, the small
 // products 2W_jω_j and ω_j², their sums and the bound are class C1 (a fused product in
-// L or in err is that product with rounding error 0).
+// L or in err is that product with rounding error 0; in L its d is one less, and
+// gamma(d - 1)(1 + u) <= gamma(d) covers its exact |p| <= (1 + u)|fl(p)| in Σ|τ|).
 class SphereResidual {
 public:
     SphereResidual(const std::array<double, 3>& o, const std::array<double, 3>& d, const std::array<double, 3>& c,
@@ -50,7 +61,7 @@ public:
         double v, err;  // |q(t) - v| <= err; err = +inf when a guard fails
     };
     Value value_at(double t) const {
-        constexpr double g2 = gamma<double>(2), g13 = gamma<double>(13), u = unit_roundoff<double>;
+        constexpr double g2 = gamma<double>(2), g7 = gamma<double>(7), u = unit_roundoff<double>;
         double W[3], om[3], A[3], small = -r2_.lo, abs_small = std::abs(r2_.lo), F = 0;
         for (std::size_t j = 0; j < 3; ++j) {
             const Pair p = two_prod(t, d_[j]);
@@ -72,7 +83,7 @@ public:
         small += (s1.lo + s2.lo) + s3.lo;
         abs_small += (std::abs(s1.lo) + std::abs(s2.lo)) + std::abs(s3.lo);
         const double v = s3.hi + small;
-        return {v, 2 * (g13 * abs_small + F) + 2 * u * std::abs(v) + 0x1p-1000};
+        return {v, 2 * (g7 * abs_small + F) + 2 * u * std::abs(v) + 0x1p-1000};
     }
     int sign_at(double t) const {
         const Value q = value_at(t);
