@@ -10,12 +10,14 @@
 // the shrunk bound. Every failure prints the input in hexfloat.
 #include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/exact.hpp>
+#include <rayproof/detail/ray_sphere_residual.hpp>
 #include <rayproof/oracle/contract.hpp>
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <span>
 #include <sstream>
@@ -679,5 +681,62 @@ TEST(BoundWitnessDouble, SphereRefineGamma1) {
     const Hit<double> h = intersect(ray, sphere, certified);
     EXPECT_EQ(h.verdict, Verdict::hit) << repro(ray, sphere);
     EXPECT_EQ(h.t_exit, y) << repro(ray, sphere) << "\n  answer: " << h;
+    expect_contract(ray, sphere);
+}
+
+// sphere-residual-gamma1: the certified Sphere's double-word residual q(t) = |Δ + t d|² - r²
+// (detail::SphereResidual, detail/ray_sphere_residual.hpp), whose bound
+// (1 + 20u)(gamma(7)·Σ|τ| + ΣF_j + u|v|) the mutant shrinks to gamma(1)·Σ|τ| (and F_j's
+// gamma(2) to gamma(1)).
+// The centre is 0, Δ = (x, y, z) and d = (0, 0, d_2): x² + y² - r² = -h² exactly for a
+// double h ~ 2^-25, and t·d_2 = P + p (two_prod) was chosen (its low part by a modular
+// inverse) so that w_2 = z + P + p = h + p with p ~ 2^-79 ~ -(the rest of x² + y² - r²)/(2h):
+// q(t) = +1.2e-47 exactly, 6e-17 times the mutant's bound. Computed (ω_0 = ω_1 = 0,
+// ω_2 = p exactly): small = -ρ + a_0 (exact) + a_1, the low parts of r², x², y², lands
+// on a tie at ~2^-49 (ulp 2^-101) and rounds to even, 2^-102 down; the third
+// coordinate's terms a_2 + fl(2 W_2 ω_2) + fl(ω_2²) sum to exactly 2^-102, and adding
+// them is a tie again that rounds to even, 2^-102 lost; the rest is exact. So
+// v = σ + small = -2^-101 where q ~ 0: |q - v| = 1.94·u·Σ|τ| (Σ|τ| ~ 1.03·2^-49; F_j ~
+// 2^-157). The mutant's bound, 1.03·2^-102, takes q < 0; the kernel's (7.2·2^-102)
+// decides nothing.
+// Found by a search over such constructed rays; checked here in exact arithmetic.
+TEST(BoundWitnessDouble, SphereResidualGamma1) {
+    const std::array<double, 3> o{0x1.812043c306d6ep+1, 0x1.20d707bec13e5p+1, 0x1.0e76aa2c1c96p-30};
+    const std::array<double, 3> d{0, 0, 0x1.fd8af422efe14p-25}, c{0, 0, 0};
+    const double r = 0x1.e167a141e8132p+1, t = 0x1.608965750d22fp-1;
+    // Exactly, q(t) > 0 (by less than 2^-150).
+    using BD = detail::BigDyadic;
+    BD q = -BD(r) * BD(r);
+    for (int j = 0; j < 3; ++j) {
+        const BD w = BD(o[j]) - BD(c[j]) + BD(t) * BD(d[j]);
+        q = q + w * w;
+    }
+    EXPECT_EQ(q.sign(), 1);
+    // The residual's terms as value_at sums them: Σ|τ| and ΣF_j with gamma(1), the mutant's.
+    const detail::Pair r2 = detail::two_prod(r, r);
+    double A[3], abs_small = std::abs(r2.lo), F = 0;
+    const double g1 = detail::gamma<double>(1);
+    for (int j = 0; j < 3; ++j) {
+        const detail::Pair oc = detail::two_sum(o[j], -c[j]), p = detail::two_prod(t, d[j]);
+        const detail::Pair x = detail::two_sum(oc.hi, p.hi);
+        const double om = (x.lo + oc.lo) + p.lo;
+        const double beta = g1 * (std::abs(x.lo) + std::abs(oc.lo) + std::abs(p.lo)) + 0x1p-1070;
+        F += beta * (2 * std::abs(x.hi) + 2 * std::abs(om) + beta);
+        const detail::Pair sq = detail::two_prod(x.hi, x.hi);
+        A[j] = sq.hi;
+        abs_small += (std::abs(sq.lo) + std::abs(mul(2 * x.hi, om))) + mul(om, om);
+    }
+    const detail::Pair s1 = detail::two_sum(A[0], A[1]), s2 = detail::two_sum(s1.hi, A[2]),
+                       s3 = detail::two_sum(s2.hi, -r2.hi);
+    abs_small += (std::abs(s1.lo) + std::abs(s2.lo)) + std::abs(s3.lo);
+    const detail::SphereResidual residual(o, d, c, r);
+    const detail::SphereResidual::Value val = residual.value_at(t);
+    EXPECT_EQ(val.v, -0x1p-101);
+    const double shrunk = (1 + 20 * u) * ((g1 * abs_small + F) + u * std::abs(val.v)) + 0x1p-1000;
+    EXPECT_GT(std::abs(val.v), shrunk);  // the shrunk bound would decide q < 0
+    EXPECT_GE(val.err, std::abs(val.v));  // the kernel's holds (q ~ 0): no sign
+    EXPECT_EQ(residual.sign_at(t), 2) << "v " << val.v << " err " << val.err;
+    const Sphere<double> sphere{Vec3<double>(c[0], c[1], c[2]), r};
+    const Ray<double> ray{Vec3<double>(o[0], o[1], o[2]), Vec3<double>(d[0], d[1], d[2])};
     expect_contract(ray, sphere);
 }

@@ -21,24 +21,61 @@ template <class T> std::array<double, 3> double3(const Vec3<T>& v) { return {dou
 // bound (value_at), and its sign when the bound decides (sign_at: 1, -1, or 2; a zero
 // is never decided). With the exact splittings (two_sum, two_prod; Higham, ASNA, 4.3):
 //   o_j - c_j = s_j + e_j,  t·d_j = P_j + p_j,  s_j + P_j = W_j + y_j,
-//   ω_j = fl(fl(y_j + e_j) + p_j),  w_j = W_j + ω_j + ε_j,  |ε_j| <= β_j = gamma(2)(|y_j| + |e_j| + |p_j|),
-//   w_j² = W_j² + 2 W_j ω_j + ω_j² + ε_j (2 W_j + 2 ω_j + ε_j),  the last term <= F_j = β_j (2|W_j| + 2|ω_j| + β_j);
+//   ω_j = fl(fl(y_j + e_j) + p_j),  w_j = W_j + ω_j + ε_j,  |ε_j| <= β*_j = gamma(2)·B_j + 2^-1075,
+//   B_j = |y_j| + |e_j| + |p_j| (two_prod's fused lo is off by at most 2^-1075 when subnormal),
+//   w_j² = W_j² + 2 W_j ω_j + ω_j² + ε_j (2 W_j + 2 ω_j + ε_j),  the last term <= F*_j = β*_j (X_j + β*_j),
+//   X_j = 2|W_j| + 2|ω_j|;
 //   W_j² = A_j + a_j and r² = R + ρ exactly, A_0 + A_1 + A_2 - R = σ + x_1 + x_2 + x_3 exactly
 //   (a cascade of two_sum);
 // the small terms τ = (x_1, x_2, x_3, a_j, fl(2 W_j ω_j), fl(ω_j²), -ρ), thirteen in all,
-// each product within u of its own value, summed to L with error <= gamma(12)·Σ|τ|;
-// v = fl(σ + L). Hence
-//   |q(t) - v| <= gamma(13)·Σ|τ| + Σ_j F_j + u|v|/(1 - u),
-// and err = 2(gamma(13)·Σ|τ| + Σ F_j) + 2u|v| + 2^-1000 bounds it: the doubling covers
-// the roundings of the bound itself. Underflow: a two_prod whose error term is
-// subnormal may round it by up to 2^-1075; β_j carries 2^-1070 for p_j, and 2^-1000
-// covers a_j, ρ and the small products. Exact while nothing overflows: the two_sum
-// cascade is guarded by A_0 + A_1 + A_2 + R <= 2^1000; any other overflow leaves an
-// infinite or NaN err, which decides nothing.
+// are summed to L by the tree of value_at, t_j = fl(fl(a_j + m_j) + k_j) (m_j = fl(2 W_j ω_j),
+// k_j = fl(ω_j²)), t_x = fl(fl(x_1 + x_2) + x_3), small = fl(...fl(fl(-ρ + t_0) + t_1)... + t_x).
+// A term that passes d roundings is off by at most gamma(d)·|τ_i| ((1 + u)^d - 1 <=
+// gamma(d); Higham, ASNA, 3.1 and 4.2), a product's own rounding counted as one
+// (|p - fl(p)| <= u|fl(p)|, and u + gamma(d) <= gamma(d + 1)); per term, d =
+//   -ρ:     small + t_0, + t_1, + t_2, + t_x                                    4
+//   a_j:    a_j + m_j, + k_j, small + t_j, the 2 - j later + t_i, + t_x          6 - j
+//   m_j:    its product, then as a_j                                            7 - j
+//   k_j:    its product, + k_j, small + t_j, the 2 - j later + t_i, + t_x        6 - j
+//   x_1, x_2: x_1 + x_2, + x_3, small + t_x; x_3: + x_3, small + t_x             3, 2
+// so L is within gamma(7)·Σ|τ| of the terms' exact sum (products unrounded; the deepest
+// term, m_0, sets the 7); v = fl(σ + L). Round to nearest (the kernel's environment,
+// detail/fp_env.hpp) gives |x - fl(x)| <= u|fl(x)| for every sum (Higham, ASNA, (2.5)),
+// so |σ + L - v| <= u|v|. Hence
+//   |q(t) - v| <= gamma(7)·S + Σ_j F*_j + u|v|,  S = Σ|τ|.
+// The bound is computed in floating point, round to nearest, every operand >= 0: each
+// rounding is fl(x) >= (1 - u)x - η (η <= 2^-1075, products only), and a term that
+// passes k roundings is at least (1 - u)^k times its exact value, less its η's. The
+// computed constants: g_n = fl(n·u / (1 - n·u)) >= (1 - u)·gamma(n) (n·u and 1 - n·u
+// exact; one division). Counting per quantity (a hat is the computed value):
+//   Ŝ = abs_small, the 13 |τ_i| by value_at's tree, 6 additions deep:    S <= (1 - u)^-6 Ŝ
+//   fl(g_7·Ŝ): g_7, the product:                   gamma(7)·S <= (1 - u)^-8 (fl(g_7·Ŝ) + η)
+//   B̂_j: 2 additions; fl(g_2·B̂_j): g_2, the product; + 2^-1070: 1 addition, and
+//     (1 - u)(2^-1070 - η) >= 2^-1075:                                  β*_j <= (1 - u)^-5 β̂_j
+//   F*_j <= (1 - u)^-10 β̂_j (X_j + β̂_j); X̂_j: 1 addition (2|W_j|, 2|ω_j| exact), + β̂_j: 1,
+//     the product: 1:                                                   F*_j <= (1 - u)^-13 (F̂_j + η)
+//   F̂ = F̂_0 + F̂_1 + F̂_2: 2 additions:                       Σ F*_j <= (1 - u)^-15 F̂ + 3η(1 - u)^-13
+//   Ê = fl(fl(g_7·Ŝ) + F̂): 1 addition:                   gamma(7)·S + Σ F*_j <= (1 - u)^-16 Ê + 4η'
+//   T̂ = fl(Ê + fl(u·|v|)): 1 addition (u·|v| exact but for its η):  the bound <= (1 - u)^-17 T̂ + 5η'
+//   err = fl(fl(c·T̂) + 2^-1000): the product, 1 addition:  err >= (1 - u)^2 c T̂ + (1 - u)2^-1000 - η
+// (η' = (1 - u)^-13 2^-1075). So err bounds |q(t) - v| when (1 - u)^2 c >= (1 - u)^-17,
+// i.e. c >= (1 - u)^-19, which 1 + gamma(19) is (Higham, ASNA, Lemma 3.1), and when
+// 2^-1000 covers the η's (here six; with those of the small terms below, well under 2^-1060).
+// c = fl(1 + g_20) = 1 + 20u exactly (static_assert), and 1 + 20u >= 1 + gamma(19)
+// (gamma(19) = 19u/(1 - 19u) < 20u). Hence err = (1 + 20u)(gamma(7)·Σ|τ| + Σ F*_j + u|v|)
+// + 2^-1000 up to its own roundings, every one of them counted above.
+// Underflow: a two_prod whose error term is subnormal may round it by up to 2^-1075; β
+// carries 2^-1070 for p_j (above), and 2^-1000 covers a_j, ρ and the small products.
+// Exact while nothing overflows: the two_sum cascade is guarded by
+// A_0 + A_1 + A_2 + R <= 2^1000; any other overflow leaves an infinite or NaN err, which
+// decides nothing.
 // Contraction (detail/eft.hpp): the splittings are two_prod and two_sum, whose products
 // are rounded() (class C3), so every W_j, A_j, σ and x_k is as derived; ω_j, the small
 // products 2W_jω_j and ω_j², their sums and the bound are class C1 (a fused product in
-// L or in err is that product with rounding error 0).
+// L or in err is that product with rounding error 0; in L its d is one less, and
+// gamma(d - 1)(1 + u) <= gamma(d) covers its exact |p| <= (1 + u)|fl(p)| in Σ|τ|; in Ŝ
+// and in err every operand is >= 0, so an unrounded product only raises the bound, and
+// the count above, with fewer roundings, still holds).
 class SphereResidual {
 public:
     SphereResidual(const std::array<double, 3>& o, const std::array<double, 3>& d, const std::array<double, 3>& c,
@@ -50,7 +87,9 @@ public:
         double v, err;  // |q(t) - v| <= err; err = +inf when a guard fails
     };
     Value value_at(double t) const {
-        constexpr double g2 = gamma<double>(2), g13 = gamma<double>(13), u = unit_roundoff<double>;
+        constexpr double g2 = gamma<double>(2), g7 = gamma<double>(7), u = unit_roundoff<double>;
+        constexpr double c = 1 + gamma<double>(20);  // >= 1 + gamma(19) >= (1 - u)^-19: see above
+        static_assert(c == 1 + 20 * u);
         double W[3], om[3], A[3], small = -r2_.lo, abs_small = std::abs(r2_.lo), F = 0;
         for (std::size_t j = 0; j < 3; ++j) {
             const Pair p = two_prod(t, d_[j]);
@@ -72,7 +111,7 @@ public:
         small += (s1.lo + s2.lo) + s3.lo;
         abs_small += (std::abs(s1.lo) + std::abs(s2.lo)) + std::abs(s3.lo);
         const double v = s3.hi + small;
-        return {v, 2 * (g13 * abs_small + F) + 2 * u * std::abs(v) + 0x1p-1000};
+        return {v, c * ((g7 * abs_small + F) + u * std::abs(v)) + 0x1p-1000};
     }
     int sign_at(double t) const {
         const Value q = value_at(t);
