@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 #include <span>
 #include <sstream>
 #include <string>
@@ -739,4 +740,32 @@ TEST(BoundWitnessDouble, SphereResidualGamma1) {
     const Sphere<double> sphere{Vec3<double>(c[0], c[1], c[2]), r};
     const Ray<double> ray{Vec3<double>(o[0], o[1], o[2]), Vec3<double>(d[0], d[1], d[2])};
     expect_contract(ray, sphere);
+}
+
+// aabb-correction-any-direction: the range condition of the certified Aabb's double
+// correction (aabb_certified_common in ray_aabb.hpp), which rounds a winner faithfully
+// from products of the direction only while every |d_i| is in [2^-500, 2^500]; the
+// mutant drops the direction's half of the condition. Here d_0 = 0x1.0ffff540018p-1021,
+// just above the smallest normal: the exit is the x slab's, t = -o_0/d_0 = -3·2^-1074/d_0
+// = -3/9570143436812288 ~ -1.57e-16, and the correction's products d_0·(...) fall below
+// 2^-1022 and lose their low bits. Under the mutant the correction is trusted and moves
+// t_exit some 5·10^7 ulps off; the kernel leaves it to the general path. (Found by
+// ray_aabb_fuzz from an empty corpus, 22 s; the unit and property suites do not draw a
+// direction this small next to a subnormal origin.)
+TEST(BoundWitnessDouble, AabbCorrectionAnyDirection) {
+    const Ray<double> ray{Vec3<double>(0x0.0000000000003p-1022, 0x0p+0, -0x1p+1),
+                          Vec3<double>(0x1.0ffff540018p-1021, 0x1p+1, -0x1.8618618618618p+8),
+                          -std::numeric_limits<double>::infinity()};  // t in [-inf, inf]
+    const Aabb<double> box{Vec3<double>(-0x1p+1, -0x1.8p+1, -0x1.94p+12), Vec3<double>(0x0p+0, 0x0p+0, 0x1.07dp+13)};
+    EXPECT_LT(std::abs(ray.direction[0]), 0x1p-500);  // outside the correction's range
+    const oracle::Exact<double> exact = oracle::exact(ray, box);
+    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
+    // The exact exit, -3/9570143436812288, lies between these two doubles.
+    using BD = detail::BigDyadic;
+    const Hit<double> h = intersect(ray, box, certified);
+    EXPECT_TRUE(h.t_exit == -0x1.696977b20af91p-52 || h.t_exit == -0x1.696977b20af9p-52)
+        << repro(ray, box) << "\n  answer: " << h;
+    EXPECT_EQ((BD(-0x1.696977b20af91p-52) * BD(9570143436812288.0) + BD(3.0)).sign(), -1);
+    EXPECT_EQ((BD(-0x1.696977b20af9p-52) * BD(9570143436812288.0) + BD(3.0)).sign(), 1);
+    expect_contract(ray, box);
 }
