@@ -81,6 +81,16 @@ template <class T, class Shape> void expect_contract(const Ray<T>& r, const Shap
     EXPECT_EQ(verdict(r, s, certified), oracle::exact(r, s).verdict) << "certified verdict(): " << repro(r, s);
 }
 
+// The exact answer is a hit on `face` (the oracle), certified mode finds that face, and
+// every mode keeps its contract.
+template <class T, class Shape> void expect_hit_on_face(const Ray<T>& r, const Shape& s, int face) {
+    const oracle::Exact<T> exact = oracle::exact(r, s);
+    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
+    EXPECT_EQ(exact.face, face) << exact;
+    EXPECT_EQ(intersect(r, s, certified).face, face) << repro(r, s);
+    expect_contract(r, s);
+}
+
 }  // namespace
 
 template <class T> class BoundWitness : public ::testing::Test {};
@@ -164,11 +174,7 @@ TEST(BoundWitnessDouble, ObbCommonBoundGamma1) {
     for (int j = 0; j < 3; ++j) exact_op = exact_op + BD(axes(j, 0)) * (BD(ray.origin[j]) - BD(box.center[j]));
     const BD err = BD(op) - exact_op;
     EXPECT_EQ((BD(double(err.sign())) * err - BD(3 * u * std::abs(op))).sign(), 1);
-    const oracle::Exact<double> exact = oracle::exact(ray, box);
-    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
-    EXPECT_EQ(exact.face, 0) << exact;
-    EXPECT_EQ(intersect(ray, box, certified).face, 0) << repro(ray, box);
-    expect_contract(ray, box);
+    expect_hit_on_face(ray, box, 0);
 }
 
 // aabb-lanes-bound-gamma1: the certified Aabb straight-line lanes (aabb_lanes in
@@ -372,11 +378,7 @@ TYPED_TEST(BoundWitness, ObbFrameBoundGamma1) {
     const detail::Interval<double> t0_mutant = (detail::Interval<double>(-h) - op_mutant) / dp_mutant;
     EXPECT_GT(t0_mutant.lo, double(ray.t_min));
     EXPECT_EQ((-BD(h) - exact_op - BD(double(ray.t_min)) * BD(a[0])).sign(), -1);
-    const oracle::Exact<T> exact = oracle::exact(ray, box);
-    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
-    EXPECT_EQ(exact.face, -1) << exact;
-    EXPECT_EQ(intersect(ray, box, certified).face, -1) << repro(ray, box);
-    expect_contract(ray, box);
+    expect_hit_on_face(ray, box, -1);
 }
 
 // aabb-common-bound-gamma1: the certified Aabb full query's winners (aabb_certified_common
@@ -410,11 +412,7 @@ TYPED_TEST(BoundWitness, AabbCommonBoundGamma1) {
     using BD = detail::BigDyadic;  // exactly, t_0 == t_1: (lo_0 - o_0)·d_1 == (lo_1 - o_1)·d_0
     EXPECT_EQ(((BD(double(box.lo[0])) - BD(double(ray.origin[0]))) * BD(double(ray.direction[1])) -
                (BD(double(box.lo[1])) - BD(double(ray.origin[1]))) * BD(double(ray.direction[0]))).sign(), 0);
-    const oracle::Exact<T> exact = oracle::exact(ray, box);
-    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
-    EXPECT_EQ(exact.face, 0) << exact;
-    EXPECT_EQ(intersect(ray, box, certified).face, 0) << repro(ray, box);
-    expect_contract(ray, box);
+    expect_hit_on_face(ray, box, 0);
 }
 
 // compensated-bound-gamma1: the compensated sums of detail/compensated.hpp
@@ -483,11 +481,7 @@ TEST(BoundWitnessDouble, CompensatedBoundGamma1) {
     ASSERT_EQ(D.sign(), -1);  // t = N/D lies above c's upper neighbour c⁺: N - c⁺·D < 0
     EXPECT_EQ((N - BD(std::nextafter(wrong.c, HUGE_VAL)) * D).sign(), -1) << std::hexfloat << wrong.c;
     EXPECT_FALSE(detail::pin_quotient(sums).pinned);
-    const oracle::Exact<double> exact = oracle::exact(ray, box);
-    ASSERT_EQ(exact.verdict, Verdict::hit) << exact;
-    EXPECT_EQ(exact.face, 2 * 0 + side) << exact;
-    EXPECT_EQ(intersect(ray, box, certified).face, 2 * 0 + side) << repro(ray, box);
-    expect_contract(ray, box);
+    expect_hit_on_face(ray, box, 2 * 0 + side);
 }
 
 // plane-verdict-bound-gamma1: the certified Plane verdict filter (plane_verdict_common in
