@@ -12,6 +12,7 @@
 
 #include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/fp_env.hpp>
+#include <rayproof/prepared_ray.hpp>
 #include <rayproof/ray_aabb.hpp>
 #include <rayproof/ray_obb.hpp>
 #include <rayproof/ray_plane.hpp>
@@ -126,6 +127,22 @@ void verdict(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::s
         if (!detail::fp_env_is_default()) [[unlikely]]
             return detail::in_established_fp_env(batch, rays, shape, out);
     batch(rays, shape, out);
+}
+
+// --- Prepared rays (prepared_ray.hpp) ---------------------------------------------------
+// The same answers as the Ray forms: in certified mode bit for bit, in conservative mode
+// within the mode's contract. Each form below answers through the Ray form's own code
+// path on the prepared ray's copy of the ray.
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const PreparedRay<T>& ray, const Shape& shape, Mode mode) noexcept {
+    return intersect(ray.ray(), shape, mode);
+}
+
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const PreparedRay<T>& ray, const Shape& shape, Mode mode) noexcept {
+    return verdict(ray.ray(), shape, mode);
 }
 
 // The same ray traversed backwards: the set { o + s·(-d) : s in [-t_max, -t_min] }.

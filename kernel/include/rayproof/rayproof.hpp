@@ -15,6 +15,7 @@
 #include <rayproof/intersect.hpp>
 #include <rayproof/io.hpp>
 #include <rayproof/normal.hpp>
+#include <rayproof/prepared_ray.hpp>
 #include <rayproof/ray_aabb.hpp>
 #include <rayproof/ray_obb.hpp>
 #include <rayproof/ray_plane.hpp>
