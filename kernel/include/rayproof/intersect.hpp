@@ -87,8 +87,10 @@ void intersect(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std:
 namespace detail {
 // The verdict alone, for shapes and modes without a verdict path of their own: the full
 // query's verdict (the rest of its answer is dead code the compiler drops where it can).
-template <class T, class Prepared, class Mode>
-RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const Prepared& p, Mode mode) noexcept {
+// R is a Ray or a PreparedRay.
+template <class R, class Prepared, class Mode>
+    requires requires(const R& r, const Prepared& p, Mode mode) { query(r, p, mode); }
+RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const R& r, const Prepared& p, Mode mode) noexcept {
     return query(r, p, mode).verdict;
 }
 }  // namespace detail
@@ -131,18 +133,87 @@ void verdict(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::s
 
 // --- Prepared rays (prepared_ray.hpp) ---------------------------------------------------
 // The same answers as the Ray forms: in certified mode bit for bit, in conservative mode
-// within the mode's contract. Each form below answers through the Ray form's own code
-// path on the prepared ray's copy of the ray.
+// within the mode's contract. Each shape's query path takes the prepared ray itself
+// (detail::query on a PreparedRay: no validation per query, the Aabb's reciprocals as
+// prepared), under the same floating-point environment guard as the Ray forms; a shape
+// without such a path answers through its Ray path on the prepared ray's copy.
+namespace detail {
+template <class T, class Shape, class Mode>
+concept PreparedPath = requires(const PreparedRay<T>& r, const Shape& s, Mode m) {
+    { query(r, prepare(s), m) } -> std::same_as<Hit<T>>;
+};
+}  // namespace detail
+
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const PreparedRay<T>& ray, const Shape& shape, Mode mode) noexcept {
-    return intersect(ray.ray(), shape, mode);
+    if constexpr (!detail::PreparedPath<T, Shape, Mode>)
+        return intersect(ray.ray(), shape, mode);
+    else if constexpr (detail::fp_env_guarded<Mode>)
+        return detail::in_default_fp_env_inline(
+            [](const PreparedRay<T>& r, const Shape& s) RAYPROOF_INLINE_LAMBDA {
+                return detail::query(r, detail::prepare(s), Mode{});
+            },
+            ray, shape);
+    else
+        return detail::query(ray, detail::prepare(shape), mode);
 }
 
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const PreparedRay<T>& ray, const Shape& shape, Mode mode) noexcept {
-    return verdict(ray.ray(), shape, mode);
+    if constexpr (!detail::PreparedPath<T, Shape, Mode>)
+        return verdict(ray.ray(), shape, mode);
+    else if constexpr (detail::fp_env_guarded<Mode>)
+        return detail::in_default_fp_env_inline(
+            [](const PreparedRay<T>& r, const Shape& s) RAYPROOF_INLINE_LAMBDA {
+                return detail::verdict_query(r, detail::prepare(s), Mode{});
+            },
+            ray, shape);
+    else
+        return detail::verdict_query(ray, detail::prepare(shape), mode);
+}
+
+// Batch forms over prepared rays: out[i] = intersect(rays[i], shape, mode), the shape
+// prepared once; the same precondition, checked the same way, as the Ray batch forms.
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+void intersect(std::span<const PreparedRay<T>> rays, const Shape& shape, Mode mode, std::span<Hit<T>> out) {
+    if (out.size() != rays.size())
+        detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
+    static_cast<void>(mode);
+    if constexpr (!detail::PreparedPath<T, Shape, Mode>) {
+        for (std::size_t i = 0; i < rays.size(); ++i) out[i] = intersect(rays[i].ray(), shape, Mode{});
+    } else {
+        const auto batch = [](std::span<const PreparedRay<T>> r, const Shape& s, std::span<Hit<T>> o) noexcept {
+            const auto prepared = detail::prepare(s);
+            for (std::size_t i = 0; i < r.size(); ++i) o[i] = detail::query(r[i], prepared, Mode{});
+        };
+        if constexpr (detail::fp_env_guarded<Mode>)
+            if (!detail::fp_env_is_default()) [[unlikely]]
+                return detail::in_established_fp_env(batch, rays, shape, out);
+        batch(rays, shape, out);
+    }
+}
+
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+void verdict(std::span<const PreparedRay<T>> rays, const Shape& shape, Mode mode, std::span<Verdict> out) {
+    if (out.size() != rays.size())
+        detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
+    static_cast<void>(mode);
+    if constexpr (!detail::PreparedPath<T, Shape, Mode>) {
+        for (std::size_t i = 0; i < rays.size(); ++i) out[i] = verdict(rays[i].ray(), shape, Mode{});
+    } else {
+        const auto batch = [](std::span<const PreparedRay<T>> r, const Shape& s, std::span<Verdict> o) noexcept {
+            const auto prepared = detail::prepare(s);
+            for (std::size_t i = 0; i < r.size(); ++i) o[i] = detail::verdict_query(r[i], prepared, Mode{});
+        };
+        if constexpr (detail::fp_env_guarded<Mode>)
+            if (!detail::fp_env_is_default()) [[unlikely]]
+                return detail::in_established_fp_env(batch, rays, shape, out);
+        batch(rays, shape, out);
+    }
 }
 
 // The same ray traversed backwards: the set { o + s·(-d) : s in [-t_max, -t_min] }.
@@ -175,6 +246,19 @@ template <class T, class Shape>
     return with_mode(mode, [&](auto tag) { return verdict(ray, shape, tag); }, [] { return Verdict::invalid; });
 }
 
+template <class T, class Shape>
+    requires AnswerableAtRunTime<T, Shape>
+[[nodiscard]] Hit<T> intersect(const PreparedRay<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
+    return with_mode(
+        mode, [&](auto tag) { return intersect(ray, shape, tag); }, [] { return detail::invalid_hit<T>(); });
+}
+
+template <class T, class Shape>
+    requires AnswerableAtRunTime<T, Shape>
+[[nodiscard]] Verdict verdict(const PreparedRay<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
+    return with_mode(mode, [&](auto tag) { return verdict(ray, shape, tag); }, [] { return Verdict::invalid; });
+}
+
 // Batch forms; the same precondition, checked the same way, as the tag forms.
 template <class T, class Shape>
     requires AnswerableAtRunTime<T, Shape>
@@ -191,6 +275,30 @@ void intersect(std::span<const Ray<T>> rays, const Shape& shape, RuntimeMode mod
 template <class T, class Shape>
     requires AnswerableAtRunTime<T, Shape>
 void verdict(std::span<const Ray<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Verdict> out) {
+    with_mode(
+        mode, [&](auto tag) { verdict(rays, shape, tag, out); },
+        [&] {
+            if (out.size() != rays.size())
+                detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
+            for (Verdict& v : out) v = Verdict::invalid;
+        });
+}
+
+template <class T, class Shape>
+    requires AnswerableAtRunTime<T, Shape>
+void intersect(std::span<const PreparedRay<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Hit<T>> out) {
+    with_mode(
+        mode, [&](auto tag) { intersect(rays, shape, tag, out); },
+        [&] {
+            if (out.size() != rays.size())
+                detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
+            for (Hit<T>& h : out) h = detail::invalid_hit<T>();
+        });
+}
+
+template <class T, class Shape>
+    requires AnswerableAtRunTime<T, Shape>
+void verdict(std::span<const PreparedRay<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Verdict> out) {
     with_mode(
         mode, [&](auto tag) { verdict(rays, shape, tag, out); },
         [&] {

@@ -22,10 +22,12 @@
 #pragma once
 
 #include <rayproof/detail/float_util.hpp>
+#include <rayproof/detail/fp_env.hpp>
 #include <rayproof/detail/validate.hpp>
 #include <rayproof/types.hpp>
 
 #include <cmath>
+#include <concepts>
 #include <limits>
 
 namespace rayproof {
@@ -34,46 +36,72 @@ template <class T> class PreparedRay {
     static_assert(is_scalar_v<T>, "PreparedRay<T>: T is float or double");
 
 public:
-    explicit PreparedRay(const Ray<T>& ray) noexcept : ray_(ray), valid_(detail::valid(ray)) {
+    // Decided in the default floating-point environment whatever the caller's (as the
+    // guarded queries answer, detail/fp_env.hpp): a directed rounding mode would round
+    // the reciprocals otherwise, and denormals-are-zero would read a subnormal d_i as 0.
+    explicit PreparedRay(const Ray<T>& ray) noexcept
+        : ray_(ray), k_(detail::fp_env_is_default() ? decide(ray) : detail::in_established_fp_env(&decide, ray)) {}
+
+    [[nodiscard]] const Ray<T>& ray() const noexcept { return ray_; }
+    // The contract's validity of the ray (an invalid ray is answered Verdict::invalid by
+    // every query that takes it).
+    [[nodiscard]] bool valid() const noexcept { return k_.valid; }
+    // fl(1/d_i) in double; ±inf for d_i = ±0.
+    [[nodiscard]] double rinv(int i) const noexcept { return k_.rinv[i]; }
+    [[nodiscard]] const double* rinv() const noexcept { return k_.rinv; }
+    // fl_T(1/d_i): the double reciprocal rounded to T (T = double: the same value).
+    [[nodiscard]] T inv(int i) const noexcept { return k_.finv[i]; }
+    [[nodiscard]] const T* inv() const noexcept { return k_.finv; }
+    // The sign bit of d_i (1 for -0 too).
+    [[nodiscard]] bool negative(int i) const noexcept { return k_.negative[i]; }
+    // The ray is valid and every fl(1/d_i) is normal and finite: the relative bound u
+    // above holds on all three axes.
+    [[nodiscard]] bool reciprocals_normal() const noexcept { return k_.normal; }
+
+private:
+    struct Decided {
+        double rinv[3];
+        T finv[3];
+        bool negative[3];
+        bool valid;
+        bool normal;
+    };
+    static Decided decide(const Ray<T>& ray) noexcept {
+        Decided k;
+        k.valid = detail::valid(ray);
         bool normal = true;
         for (int i = 0; i < 3; ++i) {
             const double d = double(ray.direction[i]);
             // 1/±0 is ±inf, the sign of the zero: IEEE division, no trap in the default
             // environment.
-            rinv_[i] = 1.0 / d;
-            finv_[i] = T(rinv_[i]);
-            negative_[i] = std::signbit(ray.direction[i]);
-            const double a = std::abs(rinv_[i]);
+            k.rinv[i] = 1.0 / d;
+            k.finv[i] = T(k.rinv[i]);
+            k.negative[i] = std::signbit(ray.direction[i]);
+            const double a = std::abs(k.rinv[i]);
             normal &= (a >= std::numeric_limits<double>::min()) & (a <= std::numeric_limits<double>::max());
         }
-        normal_ = normal & valid_;
+        k.normal = normal & k.valid;
+        return k;
     }
 
-    [[nodiscard]] const Ray<T>& ray() const noexcept { return ray_; }
-    // The contract's validity of the ray (an invalid ray is answered Verdict::invalid by
-    // every query that takes it).
-    [[nodiscard]] bool valid() const noexcept { return valid_; }
-    // fl(1/d_i) in double; ±inf for d_i = ±0.
-    [[nodiscard]] double rinv(int i) const noexcept { return rinv_[i]; }
-    [[nodiscard]] const double* rinv() const noexcept { return rinv_; }
-    // fl_T(1/d_i): the double reciprocal rounded to T (T = double: the same value).
-    [[nodiscard]] T inv(int i) const noexcept { return finv_[i]; }
-    [[nodiscard]] const T* inv() const noexcept { return finv_; }
-    // The sign bit of d_i (1 for -0 too).
-    [[nodiscard]] bool negative(int i) const noexcept { return negative_[i]; }
-    // The ray is valid and every fl(1/d_i) is normal and finite: the relative bound u
-    // above holds on all three axes.
-    [[nodiscard]] bool reciprocals_normal() const noexcept { return normal_; }
-
-private:
     Ray<T> ray_;
-    double rinv_[3];
-    T finv_[3];
-    bool negative_[3];
-    bool valid_;
-    bool normal_;
+    Decided k_;
 };
 
 template <class T> PreparedRay(const Ray<T>&) -> PreparedRay<T>;
+
+namespace detail {
+// The shapes' query paths take either a Ray or a PreparedRay (R below): ray_of(r) is the
+// ray itself, valid(r) its validity (for a PreparedRay the one decided at preparation,
+// no test per query), and each path reads from a PreparedRay what it decided (the Aabb's
+// reciprocals, ray_aabb.hpp) instead of computing it again: the same values, so the same
+// answers.
+template <class R, class T> concept RayOrPrepared = std::same_as<R, Ray<T>> || std::same_as<R, PreparedRay<T>>;
+template <class T> RAYPROOF_ALWAYS_INLINE const Ray<T>& ray_of(const Ray<T>& r) noexcept { return r; }
+template <class T> RAYPROOF_ALWAYS_INLINE const Ray<T>& ray_of(const PreparedRay<T>& r) noexcept { return r.ray(); }
+template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const PreparedRay<T>& r) noexcept { return r.valid(); }
+template <class R> inline constexpr bool is_prepared_ray_v = false;
+template <class T> inline constexpr bool is_prepared_ray_v<PreparedRay<T>> = true;
+}  // namespace detail
 
 }  // namespace rayproof

@@ -59,6 +59,7 @@
 #include <rayproof/detail/slab_certified.hpp>
 #include <rayproof/detail/slab_fast.hpp>
 #include <rayproof/detail/validate.hpp>
+#include <rayproof/prepared_ray.hpp>
 
 #include <type_traits>
 
@@ -66,9 +67,26 @@ namespace rayproof::detail {
 
 template <class T> using PreparedAabb = Prepared<Aabb<T>>;  // detail/prepared.hpp
 
-template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, fast_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return slab_fast(r.origin.data(), r.direction.data(), p.shape.lo.data(), p.shape.hi.data(), r.t_min, r.t_max);
+// The reciprocals a PreparedRay holds, rounded to T (fast mode: for float one more
+// rounding than T(1)/d_i, which the mode does not promise anything about).
+template <class T> struct PreparedInverse {
+    const T* inv;
+    RAYPROOF_ALWAYS_INLINE T operator()(int i) const { return inv[i]; }
+};
+
+// R is a Ray or a PreparedRay (prepared_ray.hpp) throughout: from a PreparedRay every
+// path takes its validity and its reciprocals fl(1/d_i) as decided once, the same values
+// the Ray paths compute per query, so the certified answers are the same bit for bit.
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedAabb<T>& p, fast_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
+    if constexpr (is_prepared_ray_v<R>)
+        return slab_fast_with(r.origin.data(), r.direction.data(), PreparedInverse<T>{ray.inv()}, p.shape.lo.data(),
+                              p.shape.hi.data(), r.t_min, r.t_max);
+    else
+        return slab_fast(r.origin.data(), r.direction.data(), p.shape.lo.data(), p.shape.hi.data(), r.t_min, r.t_max);
 }
 
 // (p - o)/d faithfully rounded to T by one compensated correction of an approximation
@@ -117,13 +135,24 @@ template <class T> std::optional<T> faithful_slab_value(T p, T o, T d) {
 // values are (p - o_i)/d_i with p = lo_i (side 0) or hi_i (side 1).
 template <class T> class AabbFrame {
 public:
-    AabbFrame(const Ray<T>& r, const Aabb<T>& b) : o_(r.origin.data()), d_(r.direction.data()), b_(&b) {
+    AabbFrame(const Ray<T>& r, const Aabb<T>& b) : AabbFrame(r, b, nullptr) {}
+    // The reciprocals as the prepared ray decided them: the same values fl(1/d_i).
+    AabbFrame(const PreparedRay<T>& r, const Aabb<T>& b) : AabbFrame(r.ray(), b, r.rinv()) {}
+
+private:
+    // rinv: the prepared ray's fl(1/d_i), or nullptr: divided here (the same values).
+    template <class Rinv>
+    AabbFrame(const Ray<T>& r, const Aabb<T>& b, Rinv rinv) : o_(r.origin.data()), d_(r.direction.data()), b_(&b) {
         // K = 2·gamma(3): see the header comment.
         constexpr double K = 2 * gamma<double>(3);
         ok_ = true;
         for (int i = 0; i < 3; ++i) {
             if (d_[i] == 0) continue;
-            const double inv = 1.0 / double(d_[i]);
+            double inv;
+            if constexpr (std::is_null_pointer_v<Rinv>)
+                inv = 1.0 / double(d_[i]);
+            else
+                inv = rinv[i];
             ok_ &= std::abs(inv) >= std::numeric_limits<double>::min() && std::abs(inv) <= std::numeric_limits<double>::max();
             for (int side = 0; side < 2; ++side) {
                 const double s = double(plane(i, side)) - double(o_[i]);
@@ -135,6 +164,8 @@ public:
             }
         }
     }
+
+public:
     int den_sign(int i) const { return (d_[i] > 0) - (d_[i] < 0); }
     bool inside_parallel(int i) const { return b_->lo[i] <= o_[i] && o_[i] <= b_->hi[i]; }
     Interval<double> enclose(int i, int side) const {
@@ -168,9 +199,12 @@ private:
 
 static_assert(SlabFrame<AabbFrame<float>, float> && SlabFrame<AabbFrame<double>, double>);
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, conservative_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
-    return slab_conservative(AabbFrame<T>(r, p.shape), r.t_min, r.t_max);
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+Hit<T> query(const R& ray, const PreparedAabb<T>& p, conservative_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
+    return slab_conservative(AabbFrame<T>(ray, p.shape), r.t_min, r.t_max);
 }
 
 // The certified answer's common case in straight-line code, the entry problem in lane 0
@@ -230,8 +264,11 @@ struct AabbLanes {
                                        // either only on a valid range
 };
 
-template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, const Aabb<T>& b) {
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const R& ray, const Aabb<T>& b) {
     using namespace lanes;
+    const Ray<T>& r = ray_of(ray);
     constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022;
     AabbLanes L;
     // The inputs as pairs of doubles; for float, from whole loads of the ray and the box
@@ -254,11 +291,18 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
         p2 = make(double(b.lo[2]), o2), q2 = make(o2, double(b.hi[2]));
         L.limit = make(r.t_min, -double(r.t_max));
     }
-    // 1/d for the three axes (axes 0 and 1 in one division); where it is not normal and
+    // 1/d for the three axes (axes 0 and 1 in one division), or from a prepared ray the
+    // same values fl(1/d_i) as it decided them (no division); where it is not normal and
     // finite the values below are meaningless, and the probe sends the query to the
-    // general path.
-    L.inv01 = splat(1.0) / L.d01;
-    L.inv22 = splat(1.0) / L.d22;
+    // general path (the probe is the same either way: it adds the direction terms
+    // computed here, so a prepared ray declines exactly what its ray declines).
+    if constexpr (is_prepared_ray_v<R>) {
+        L.inv01 = load2(ray.rinv());
+        L.inv22 = splat(ray.rinv(2));
+    } else {
+        L.inv01 = splat(1.0) / L.d01;
+        L.inv22 = splat(1.0) / L.d22;
+    }
     // The slab values t~ = fl(fl(p - o)·fl(1/d)): t_lo01 = (t_lo0, t_lo1), t_hi01 =
     // (-t_hi0, -t_hi1) ((lo - o, o - hi) is (t_lo, -t_hi)·d exactly as rounded, rounding
     // to nearest being symmetric), x2 = (t_lo2, -t_hi2); per axis (entry, -exit) =
@@ -320,7 +364,9 @@ template <class T> RAYPROOF_ALWAYS_INLINE AabbLanes aabb_lanes(const Ray<T>& r, 
 // upper bound; no winner is needed, and nothing is rounded. verdict_declined when the
 // general path must decide (see verdict_or, detail/certified.hpp). Both are never
 // proven at once (g <= h in each lane, and rounding is monotone).
-template <class T> RAYPROOF_ALWAYS_INLINE int aabb_verdict_common(const Ray<T>& r, const Aabb<T>& b) {
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE int aabb_verdict_common(const R& r, const Aabb<T>& b) {
     using namespace lanes;
     const AabbLanes L = aabb_lanes(r, b);
     const int proven = bits(L.proven);
@@ -329,10 +375,12 @@ template <class T> RAYPROOF_ALWAYS_INLINE int aabb_verdict_common(const Ray<T>& 
 
 // The full query: the verdict above, then the winners' identity and their faithful
 // rounding.
-template <class T>
-RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const Ray<T>& r, const Aabb<T>& b) {
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const R& ray, const Aabb<T>& b) {
     using namespace lanes;
-    const AabbLanes L = aabb_lanes(r, b);
+    const Ray<T>& r = ray_of(ray);
+    const AabbLanes L = aabb_lanes(ray, b);
     const D2 d01 = L.d01, d22 = L.d22, m = L.m, limit = L.limit, m_lo = L.m_lo, m_hi = L.m_hi;
     // The runner-up m2 per lane, and the winning axes (w: entry, v: exit) from the lane
     // masks with bit arithmetic (ties fail the checks below, so their order does not
@@ -452,18 +500,25 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_general(co
 
 // What the straight-line paths decline: validated in full (they answer only for valid
 // input, see the validity note above), then the general path.
-template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_declined(const Ray<T>& r, const Aabb<T>& b) {
-    return !valid(b) || !valid(r) ? invalid_hit<T>() : aabb_certified_general(r, b);
+// A prepared ray's validity is decided already.
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+[[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_declined(const R& r, const Aabb<T>& b) {
+    return !valid(b) || !valid(r) ? invalid_hit<T>() : aabb_certified_general(ray_of(r), b);
 }
 
 // The certified answer in full. The prepared flag is not consulted: the straight-line
 // path checks validity itself, and what it declines is validated again.
-template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& r, const PreparedAabb<T>& p, certified_t) {
     return common_or_general(aabb_certified_common(r, p.shape), [&] { return aabb_certified_declined(r, p.shape); });
 }
 
 // The certified verdict alone: the same lanes and the same fallback as the full query.
-template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedAabb<T>& p, certified_t) {
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const R& r, const PreparedAabb<T>& p, certified_t) {
     return verdict_or(aabb_verdict_common(r, p.shape), [&] { return aabb_certified_declined(r, p.shape).verdict; });
 }
 

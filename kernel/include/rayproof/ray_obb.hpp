@@ -49,6 +49,7 @@
 #include <rayproof/detail/slab_certified.hpp>
 #include <rayproof/detail/slab_fast.hpp>
 #include <rayproof/detail/validate.hpp>
+#include <rayproof/prepared_ray.hpp>
 
 namespace rayproof::detail {
 
@@ -59,8 +60,11 @@ template <class T> struct PreparedObb {
 };
 template <class T> PreparedObb<T> prepare(const Obb<T>& b) { return {b, -b.half_extent, b.half_extent, valid(b)}; }
 
-template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, fast_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedObb<T>& p, fast_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
     const Vec3<T> o = p.box.axes.transpose() * (r.origin - p.box.center);
     const Vec3<T> d = p.box.axes.transpose() * r.direction;
     return slab_fast(o.data(), d.data(), p.lo.data(), p.hi.data(), r.t_min, r.t_max);
@@ -212,8 +216,11 @@ private:
 
 static_assert(SlabFrame<ObbFrame<float>, float> && SlabFrame<ObbFrame<double>, double>);
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, conservative_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+Hit<T> query(const R& ray, const PreparedObb<T>& p, conservative_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
     return slab_conservative(ObbFrame<T>(r, p.box), r.t_min, r.t_max);
 }
 
@@ -321,8 +328,11 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> obb_certified_general(con
     return slab_certified(ObbFrame<T>(r, b, certified_t{}), r.t_min, r.t_max);
 }
 
-template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedObb<T>& p, certified_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedObb<T>& p, certified_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
     return common_or_general(obb_certified_common(r, p.box), [&] { return obb_certified_general(r, p.box); });
 }
 

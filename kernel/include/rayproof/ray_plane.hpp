@@ -44,6 +44,7 @@
 #include <rayproof/detail/prepared.hpp>
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/validate.hpp>
+#include <rayproof/prepared_ray.hpp>
 
 #include <cmath>
 #include <limits>
@@ -52,8 +53,11 @@ namespace rayproof::detail {
 
 template <class T> using PreparedPlane = Prepared<Plane<T>>;  // detail/prepared.hpp
 
-template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, fast_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, fast_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
     const T den = p.shape.normal.dot(r.direction);
     const T num = p.shape.offset - p.shape.normal.dot(r.origin);
     Hit<T> h;
@@ -286,8 +290,11 @@ template <class T, class X> Hit<T> parallel_answer(const Ray<T>& r, const X& x) 
     return h;
 }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, conservative_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+Hit<T> query(const R& ray, const PreparedPlane<T>& p, conservative_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
     const PlaneCrossing<T> x(r, p.shape);
     Hit<T> h;
     if (x.den_sign() == 0) return parallel_answer(r, x);
@@ -385,17 +392,29 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_certified_general(c
 }
 
 // What the straight-line path declines: validated in full, then the general path.
-template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_certified_declined(const Ray<T>& r, const Plane<T>& p) {
-    return !valid(p) || !valid(r) ? invalid_hit<T>() : plane_certified_general(r, p);
+// (A prepared ray's validity is decided already.)
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+[[gnu::noinline, gnu::cold]] Hit<T> plane_certified_declined(const R& r, const Plane<T>& p) {
+    return !valid(p) || !valid(r) ? invalid_hit<T>() : plane_certified_general(ray_of(r), p);
 }
 
-template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, certified_t) {
     // The straight-line path answers only where its pinned crossing has proven the plane
     // and the ray valid apart from t_min and t_max (see plane_certified_common), so it
-    // takes those as a flag; anything it declines is validated in full first.
-    const bool rest_valid = valid_range(r);
+    // takes those as a flag; anything it declines is validated in full first. A prepared
+    // ray gives its whole validity as the flag: where it is false the ray is invalid,
+    // the path proves nothing then, and the answer is Verdict::invalid either way.
+    const Ray<T>& r = ray_of(ray);
+    bool rest_valid;
+    if constexpr (is_prepared_ray_v<R>)
+        rest_valid = ray.valid();
+    else
+        rest_valid = valid_range(r);
     return common_or_general(plane_certified_common(r, p.shape, rest_valid),
-                             [&] { return plane_certified_declined(r, p.shape); });
+                             [&] { return plane_certified_declined(ray, p.shape); });
 }
 
 // What the verdict filter declines: the full query's verdict, out of line.
@@ -405,7 +424,10 @@ template <class T> [[gnu::noinline, gnu::cold]] Verdict plane_verdict_declined(c
 
 // The certified verdict alone: the filter's verdict (which proves the input valid),
 // else the full query's. The prepared flag is not consulted on the filter's path.
-template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedPlane<T>& p, certified_t) {
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const R& ray, const PreparedPlane<T>& p, certified_t) {
+    const Ray<T>& r = ray_of(ray);
     return verdict_or(plane_verdict_common(r, p.shape), [&] { return plane_verdict_declined(r, p.shape); });
 }
 

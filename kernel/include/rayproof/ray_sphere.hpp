@@ -67,6 +67,7 @@
 #include <rayproof/detail/ray_sphere_straight_line.hpp>
 #include <rayproof/detail/ray_sphere_verdict.hpp>
 #include <rayproof/detail/validate.hpp>
+#include <rayproof/prepared_ray.hpp>
 #include <rayproof/types.hpp>
 
 #include <algorithm>
@@ -77,8 +78,11 @@ namespace rayproof::detail {
 
 template <class T> using PreparedSphere = Prepared<Sphere<T>>;  // detail/prepared.hpp
 
-template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, fast_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, fast_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
     const Vec3<T>& d = r.direction;
     const Vec3<T> delta = r.origin - p.shape.center;
     const T rad = p.shape.radius;
@@ -114,8 +118,11 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> sphere_certified_answer(const R
     return common_or_general(sphere_certified_common(r, s), [&] { return sphere_certified_general(r, s); });
 }
 
-template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, conservative_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+Hit<T> query(const R& ray, const PreparedSphere<T>& p, conservative_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
     const SphereQuadratic<T> q(r, p.shape);
     if (!(q.a().lo > 0)) {
         // a = |d|² underflowed (|d| below about 2^-537): the interval formulas divide by
@@ -141,8 +148,11 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, con
     return h;
 }
 
-template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
-    if (!p.ok || !valid(r)) return invalid_hit<T>();
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, certified_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
     return sphere_certified_answer(r, p.shape);
 }
 
@@ -153,7 +163,10 @@ template <class T> [[gnu::noinline, gnu::cold]] Verdict sphere_verdict_declined(
 
 // The certified verdict: the filter's (which proves the input valid), else the full
 // query's, which validates. The prepared flag is not consulted on the filter's path.
-template <class T> RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const Ray<T>& r, const PreparedSphere<T>& p, certified_t) {
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const R& ray, const PreparedSphere<T>& p, certified_t) {
+    const Ray<T>& r = ray_of(ray);
     return verdict_or(sphere_verdict_common(r, p.shape), [&] { return sphere_verdict_declined(r, p.shape); });
 }
 

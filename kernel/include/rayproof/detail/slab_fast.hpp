@@ -38,12 +38,15 @@ template <class T> inline T pick(bool first, T a, T b) {
     return std::bit_cast<T>(U((std::bit_cast<U>(a) & m) | (std::bit_cast<U>(b) & ~m)));
 }
 
-template <class T>
-RAYPROOF_ALWAYS_INLINE Hit<T> slab_fast(const T* o, const T* d, const T* lo, const T* hi, T t_min, T t_max) {
+// inv(i) gives 1/d_i: divided here (slab_fast), or as a prepared ray holds it
+// (slab_fast_with, ray_aabb.hpp).
+template <class T, class Inv>
+RAYPROOF_ALWAYS_INLINE Hit<T> slab_fast_with(const T* o, const T* d, Inv inv_of, const T* lo, const T* hi, T t_min,
+                                             T t_max) {
     T t_enter = t_min, t_exit = t_max;
     int face = -1;
     for (int i = 0; i < 3; ++i) {
-        const T inv = T(1) / d[i];
+        const T inv = inv_of(i);
         const T t_lo = (lo[i] - o[i]) * inv;
         const T t_hi = (hi[i] - o[i]) * inv;
         const bool neg = std::signbit(d[i]);
@@ -60,6 +63,16 @@ RAYPROOF_ALWAYS_INLINE Hit<T> slab_fast(const T* o, const T* d, const T* lo, con
     h.t_exit = t_exit;
     h.face = face;
     return h;
+}
+
+template <class T> struct DividedInverse {
+    const T* d;
+    RAYPROOF_ALWAYS_INLINE T operator()(int i) const { return T(1) / d[i]; }
+};
+
+template <class T>
+RAYPROOF_ALWAYS_INLINE Hit<T> slab_fast(const T* o, const T* d, const T* lo, const T* hi, T t_min, T t_max) {
+    return slab_fast_with(o, d, DividedInverse<T>{d}, lo, hi, t_min, t_max);
 }
 
 }  // namespace rayproof::detail
