@@ -472,6 +472,46 @@ template <class T, class Shape> struct Tester {
         });
     }
 
+    // PreparedRay (prepared_ray.hpp): the certified answer of the prepared ray equals the
+    // Ray's bit for bit (verdict, t_enter, t_exit, face; -0 and +0 told apart), and so does
+    // its verdict(); the prepared conservative answer meets the mode's contract against the
+    // exact oracle (invalid exactly where the input is). On the case's ray and on the
+    // reversed ray (whose direction has every sign flipped, -0 included).
+    static void prepared_ray_equals_ray() {
+        run_cases<T, Shape>([](const auto& d, auto) -> Failure {
+            const auto e = oracle::exact(d.c.ray, d.c.shape);
+            Failure failure;
+            const std::array<Ray<T>, 2> rays{d.c.ray, reversed(d.c.ray)};
+            for (std::size_t i = 0; i < rays.size(); ++i) {
+                const Ray<T>& r = rays[i];
+                const bool rev = i == 1;
+                const PreparedRay<T> p(r);
+                if constexpr (has_certified) {
+                    const Hit<T> hp = intersect(p, d.c.shape, certified), hr = intersect(r, d.c.shape, certified);
+                    const Verdict vp = verdict(p, d.c.shape, certified);
+                    if (!failure && (!identical(hp, hr) || vp != hr.verdict)) {
+                        std::ostringstream os;
+                        os << "certified" << (rev ? " (reversed ray)" : "") << ": prepared " << hp << ", verdict() "
+                           << vp << "; ray " << hr;
+                        failure = os.str();
+                    }
+                }
+                if constexpr (has_conservative) {
+                    if (!failure && !rev) {
+                        const Hit<T> h = intersect(p, d.c.shape, conservative);
+                        const auto c = oracle::check_contract(r, d.c.shape, h, e, conservative);
+                        if (c.promise_broken() || c.invalid_mismatch()) {
+                            std::ostringstream os;
+                            os << "prepared conservative " << h << "\n  " << e << "\n  " << c.mode_judgement();
+                            failure = os.str();
+                        }
+                    }
+                }
+            }
+            return failure;
+        });
+    }
+
     // The mix of a run (strata.hpp) at the suite's own case count and seed: every generator
     // gets at least floor(N/G) of the N cases, no two cases have the same input (bit for
     // bit), and the scaling property scales every case by 2^k with k != 0, exactly, except
@@ -582,5 +622,6 @@ template <class T, class Shape> struct Tester {
     TYPED_TEST(Suite, CertifiedReversalMirrorsInterval) { Suite##Tester<TypeParam>::certified_reversal(); }    \
     TYPED_TEST(Suite, BatchEqualsScalar) { Suite##Tester<TypeParam>::batch_equals_scalar(); }                  \
     TYPED_TEST(Suite, VerdictQueryEqualsFullQuery) { Suite##Tester<TypeParam>::verdict_query_equals_full_query(); } \
+    TYPED_TEST(Suite, PreparedRayEqualsRay) { Suite##Tester<TypeParam>::prepared_ray_equals_ray(); }           \
     TYPED_TEST(Suite, FastModeErrorsPerGenerator) { Suite##Tester<TypeParam>::fast_mode_error_counts(); }      \
     TYPED_TEST(Suite, StratifiedShares) { Suite##Tester<TypeParam>::stratified_shares(); }

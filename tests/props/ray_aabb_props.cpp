@@ -5,8 +5,9 @@
 // conservative never misses an exact hit and encloses the exact interval; certified
 // equals the exact oracle (verdict, face, faithfully rounded t); oracle-free invariants
 // of certified under exact power-of-two scaling, axis permutation and ray reversal; a
-// hit's interval is ordered; batch equals scalar bit for bit; and the fast mode's wrong
-// answers counted per generator (printed, not asserted).
+// hit's interval is ordered; batch equals scalar bit for bit; a PreparedRay's certified
+// answer equals the Ray's bit for bit and its conservative answer meets the contract;
+// and the fast mode's wrong answers counted per generator (printed, not asserted).
 #include "props_support.hpp"
 
 RAYPROOF_PROPERTY_SUITE(AabbProps, rayproof::Aabb)
