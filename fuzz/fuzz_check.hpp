@@ -13,6 +13,9 @@
 //                   form does, in every mode (bit for bit)
 //   verdict         verdict(), scalar and batch, equals the full answer's verdict in
 //                   every mode (so the certified one is exact too)
+//   prepared ray    a PreparedRay of the ray and of its reverse: each mode's answer
+//                   within that mode's contract, verdict() equal to its verdict, and the
+//                   certified answer equal to the Ray's bit for bit
 // `fast` promises no accuracy: it is held only to the first line (and to the sanitizers).
 // A violation prints the case in hexadecimal floating point, the answer, the oracle's
 // exact answer and the judgement, then aborts.
@@ -120,6 +123,48 @@ template <class T, class Shape, class Mode> void check_verdict(const Ray<T>& ray
     }
 }
 
+// PreparedRay (prepared_ray.hpp), on the ray and its reverse: in every mode the prepared
+// answer meets the mode's contract (the judgement above, against the ray's own exact
+// answer, or the reverse's) and verdict() equals its verdict; the certified answer equals
+// the Ray's bit for bit (verdict, t_enter, t_exit, face).
+template <class T, class Shape, class Mode>
+void check_prepared(const Ray<T>& ray, const Shape& shape, const oracle::Exact<T>& ex, Mode mode) {
+    const Hit<T> hit = intersect(PreparedRay<T>(ray), shape, mode);
+    const oracle::ContractCheck c = oracle::check_contract(ray, shape, hit, ex, mode);
+    if (!c.ok()) {
+        const oracle::Judgement j = c.mode_judgement();
+        violation((std::string("prepared ray: ") + oracle::describe(c.first())).c_str(), mode_name(mode), ray, shape,
+                  hit, ex, &j);
+    }
+    const Verdict v = verdict(PreparedRay<T>(ray), shape, mode);
+    const Hit<T> by_ray = intersect(ray, shape, mode);
+    const bool certified_mode = std::is_same_v<Mode, certified_t>;
+    const bool same = hit.verdict == by_ray.verdict && same_bits(hit.t_enter, by_ray.t_enter) &&
+                      same_bits(hit.t_exit, by_ray.t_exit) && hit.face == by_ray.face;
+    if (v != hit.verdict || (certified_mode && !same)) {
+        const std::string d = describe<T, Shape>(v != hit.verdict ? "prepared ray: verdict() differs from the full answer's"
+                                                                  : "prepared ray: certified answer differs from the ray's",
+                                                 mode_name(mode));
+        filter(d);
+        std::cerr << "\n==== rayproof fuzz: contract violation: " << d << '\n';
+        if (!current_input().empty()) std::cerr << "input:    " << current_input() << '\n';
+        std::cerr << "ray:      " << ray << "\nshape:    " << shape << "\nprepared: " << hit << " (verdict() " << v
+                  << ")\nray:      " << by_ray << '\n';
+        std::abort();
+    }
+}
+template <class T, class Shape> void check_prepared(const Ray<T>& ray, const Shape& shape, const oracle::Exact<T>& ex) {
+    const Ray<T> back = reversed(ray);
+    const oracle::Exact<T> ex_back = oracle::exact(back, shape);
+    const auto every_mode = [&](const Ray<T>& r, const oracle::Exact<T>& e) {
+        check_prepared(r, shape, e, certified);
+        check_prepared(r, shape, e, conservative);
+        check_prepared(r, shape, e, fast);
+    };
+    every_mode(ray, ex);
+    every_mode(back, ex_back);
+}
+
 // RAYPROOF_FUZZ_PRINT set: every decoded case is printed before it is checked (to see
 // the case of a hang or of a sanitizer report).
 inline bool print_cases() {
@@ -142,6 +187,7 @@ template <class T, class Shape> void check_case(const Ray<T>& ray, const Shape& 
     check_verdict(ray, shape, certified);
     check_verdict(ray, shape, conservative);
     check_verdict(ray, shape, fast);
+    check_prepared(ray, shape, ex);
 }
 
 // The body of a shape target: the header picks float or double.
