@@ -19,6 +19,14 @@
 // certified mode bit for bit (verdict, t_enter, t_exit, face); in conservative mode
 // within the mode's contract; fast mode promises nothing (../docs/semantics.md). The
 // prepared ray keeps its own copy of the ray: it may outlive the Ray it was made from.
+// What the queries take from it (each shape's detail::query on a Ray or a PreparedRay,
+// detail::RayOrPrepared below): every shape its validity, with no test per query; the
+// Aabb its reciprocals, in the certified and conservative modes the double ones (the
+// very values the Ray paths divide out per query, so the same decisions and the same
+// bits, the straight-line path declining exactly what it declines for the Ray), in fast
+// mode the ones rounded to T (for float one rounding more than T(1)/d_i).
+// Decided in the default floating-point environment, whatever the caller's, as the
+// certified and conservative queries answer (detail/fp_env.hpp).
 #pragma once
 
 #include <rayproof/detail/float_util.hpp>
