@@ -13,6 +13,8 @@
 //                                                       certified verdict query, in pairs
 //   fpenv/<shape>/<float|double>/<mode>/{guard,foreign}  the floating-point environment
 //                                                       guard's cost, in pairs (fp_env_bench.cpp)
+//   prepared/aabb/<float|double>/<method>/{ray,prepared} one ray against many boxes, as a
+//                                                       Ray or prepared once (ray_aabb_bench.cpp)
 // Methods: the kernel's modes fast, conservative, certified, and certified_verdict (the
 // verdict query alone, rayproof::verdict in certified mode); the baselines textbook,
 // branchless (boxes), cgal_epeck, cgal_rational (Aabb, Plane, Sphere), embree and
