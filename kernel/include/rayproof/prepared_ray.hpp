@@ -86,7 +86,7 @@ private:
             k.finv[i] = T(k.rinv[i]);
             k.negative[i] = std::signbit(ray.direction[i]);
             const double a = std::abs(k.rinv[i]);
-            normal &= (a >= std::numeric_limits<double>::min()) & (a <= std::numeric_limits<double>::max());
+            normal &= bool(int(a >= std::numeric_limits<double>::min()) & int(a <= std::numeric_limits<double>::max()));
         }
         k.normal = normal & k.valid;
         return k;
