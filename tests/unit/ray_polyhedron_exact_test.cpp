@@ -111,7 +111,8 @@ template <class T> void scene(std::mt19937_64& rng, Ray<T>& r, std::vector<Plane
     std::uniform_int_distribution<int> pick(0, int(ex.size()) - 1);
     const int s = ex[std::size_t(pick(rng))], sn = coin(rng) ? 0 : ex[std::size_t(pick(rng))] / 2,
               sd = coin(rng) ? 0 : ex[std::size_t(pick(rng))] / 2;
-    const auto rv = [&] { return Vec3<double>(u(rng), u(rng), u(rng)); };
+    // Braces: the three draws are sequenced left to right (a call's arguments are not).
+    const auto rv = [&] { return Vec3<double>{u(rng), u(rng), u(rng)}; };
     // Work in double at unit scale, then scale and round to T.
     const int kind = kind_of(rng);
     const int n = kind == 2 ? count(rng) : std::uniform_int_distribution<int>(1, 8)(rng);
