@@ -14,7 +14,8 @@
 //   - a flat slab from two opposite planes with equal offsets;
 //   - invalid inputs (zero normal, non-finite numbers, the ray's own classes);
 //   - verdict() == intersect().verdict in every mode; batch == scalar and PreparedRay ==
-//     Ray bit for bit in certified mode; conservative encloses the certified interval.
+//     Ray (and RuntimeMode::certified == certified) bit for bit in certified mode;
+//     conservative encloses the certified interval.
 // Every random case is seeded (RAYPROOF_SEED=<decimal> replays, seeded.hpp) and prints
 // the ray and the planes in hexadecimal when it fails; vectors are drawn in braces, whose
 // elements are evaluated left to right, so every compiler draws the same cases.
@@ -149,8 +150,8 @@ template <class T> T step_up(T x) { return std::nextafter(x, std::numeric_limits
 template <class T> T step_down(T x) { return std::nextafter(x, -std::numeric_limits<T>::infinity()); }
 
 // Every cross-check of one ray against one polyhedron that needs no reference answer:
-// verdict() == intersect().verdict in every mode, PreparedRay == Ray bit for bit in
-// certified mode, conservative encloses certified (the exact ends lie within one step
+// verdict() == intersect().verdict in every mode, PreparedRay == Ray and the run-time
+// mode == the tag bit for bit in certified mode, conservative encloses certified (the exact ends lie within one step
 // of the certified ones).
 template <class T> void self_consistent(const Ray<T>& r, const ConvexPolyhedron<T>& c) {
     const Hit<T> cert = intersect(r, c, certified);
@@ -160,6 +161,8 @@ template <class T> void self_consistent(const Ray<T>& r, const ConvexPolyhedron<
     EXPECT_EQ(verdict(r, c, conservative), cons.verdict);
     const PreparedRay<T> pr(r);
     EXPECT_TRUE(same_hit(intersect(pr, c, certified), cert));
+    EXPECT_TRUE(same_hit(intersect(r, c, RuntimeMode::certified), cert));
+    EXPECT_EQ(verdict(r, c, RuntimeMode::certified), cert.verdict);
     EXPECT_EQ(verdict(pr, c, certified), cert.verdict);
     if (cert.verdict == Verdict::invalid) {
         EXPECT_EQ(cons.verdict, Verdict::invalid);
