@@ -19,6 +19,7 @@
 #include <rayproof/ray_aabb.hpp>
 #include <rayproof/ray_obb.hpp>
 #include <rayproof/ray_plane.hpp>
+#include <rayproof/ray_polyhedron.hpp>
 #include <rayproof/ray_sphere.hpp>
 #include <rayproof/surface_point.hpp>
 #include <rayproof/types.hpp>

@@ -7,6 +7,8 @@
 //          i-th column of `axes` exactly as stored (never re-normalized)
 //   Plane  the surface normal·p == offset
 //   Sphere the closed ball |p - center| <= radius (radius 0 is a point)
+//   ConvexPolyhedron  the closed solid { p : n_k·p <= offset_k for every plane k }
+//          (normals point out; no planes: all of space; an infeasible set: empty)
 // Every input number is taken as the exact real number its value denotes (-0 is 0).
 #pragma once
 
@@ -16,6 +18,7 @@
 
 #include <limits>
 #include <optional>
+#include <span>
 #include <ostream>
 #include <string_view>
 #include <type_traits>
@@ -53,12 +56,18 @@ template <class T> struct Sphere {
     T radius;
 };
 
+// Does not own its planes: the caller's array outlives every query on it.
+template <class T> struct ConvexPolyhedron {
+    std::span<const Plane<T>> planes;
+};
+
 enum class Verdict { miss, hit, invalid };
 
 template <class T> struct Hit {
     Verdict verdict = Verdict::miss;
     T t_enter = 0, t_exit = 0;  // meaningful when verdict == hit
-    int face = -1;              // boxes: entry face 2*axis + side (0: lo / -axis, 1: hi / +axis); -1 otherwise
+    int face = -1;              // boxes: entry face 2*axis + side (0: lo / -axis, 1: hi / +axis);
+                                // polyhedra: index of the entry plane; -1 otherwise
     [[nodiscard]] explicit operator bool() const noexcept { return verdict == Verdict::hit; }
 };
 
@@ -81,7 +90,7 @@ template <class M> inline constexpr bool is_mode_v =
     std::is_same_v<M, fast_t> || std::is_same_v<M, conservative_t> || std::is_same_v<M, certified_t>;
 template <class S, class T> inline constexpr bool is_shape_v =
     std::is_same_v<S, Aabb<T>> || std::is_same_v<S, Obb<T>> || std::is_same_v<S, Plane<T>> ||
-    std::is_same_v<S, Sphere<T>>;
+    std::is_same_v<S, Sphere<T>> || std::is_same_v<S, ConvexPolyhedron<T>>;
 
 [[nodiscard]] constexpr const char* to_string(Verdict v) noexcept {
     switch (v) {

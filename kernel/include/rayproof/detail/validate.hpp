@@ -2,8 +2,9 @@
 //
 // Invalid (every mode answers Verdict::invalid): any NaN or infinite number except
 // t_min = -inf and t_max = +inf; t_min > t_max; a zero direction; lo > hi on an axis;
-// radius < 0; a zero plane normal; a negative Obb half extent; linearly dependent
-// Obb axes (decided exactly: the sign of the determinant of the stored floats).
+// radius < 0; a zero plane normal (also in any plane of a polyhedron); a negative Obb
+// half extent; linearly dependent Obb axes (decided exactly: the sign of the
+// determinant of the stored floats).
 #pragma once
 
 #include <rayproof/detail/exact.hpp>
@@ -53,6 +54,13 @@ template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Plane<T>& p) {
     const T* n = p.normal.data();
     const bool finite = finite_probe(n) + (p.offset - p.offset) == 0, nonzero = nonzero3(n);
     return finite & nonzero;
+}
+
+// Every plane valid (a finite offset, a finite nonzero normal); no planes is valid.
+template <class T> bool valid(const ConvexPolyhedron<T>& c) {
+    bool ok = true;
+    for (const Plane<T>& p : c.planes) ok &= valid(p);
+    return ok;
 }
 
 template <class T> bool valid(const Obb<T>& b) {
