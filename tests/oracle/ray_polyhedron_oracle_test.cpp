@@ -6,10 +6,12 @@
 // and unbounded sets, denormal and 2^±1000 scales, every invalid class, and the contract
 // checker's face range; then agreement with an independent exact computation: two
 // linear programs (the least and the greatest t of the solid's points on the range)
-// solved by CGAL's exact simplex over Gmpq (crosscheck::answer), with the kernel's
-// conservative and certified modes judged by CGAL's answer where the kernel provides them.
+// solved by CGAL's exact simplex over Gmpq (crosscheck::answer), over the cases of every
+// polyhedron generator, with the kernel's conservative and certified modes judged by
+// CGAL's answer where the kernel provides them.
 #include "oracle_test_support.hpp"
 
+#include <rayproof/generators/ray_polyhedron.hpp>
 #include <rayproof/oracle/contract.hpp>
 
 #include <vector>
@@ -303,6 +305,43 @@ TYPED_TEST(PolyhedronOracle, AgreesWithCgalLinearProgramsOnTheHandCases) {
     EXPECT_GT(cov.hits, 10);
     EXPECT_GT(cov.faces, 5);
     EXPECT_GT(cov.unbounded, 3);
+}
+
+// Every polyhedron generator: the oracle (and the kernel where it answers) against CGAL's
+// linear programs.
+TYPED_TEST(PolyhedronOracle, AgreesWithCgalLinearProgramsOnEveryGenerator) {
+    using T = TypeParam;
+    constexpr int kCases = 150;
+    for (const auto& g : gen::polyhedron_generators<T>()) {
+        gen::Rng rng(0x0bac1e ^ gen::name_hash(g.name));
+        PolyCoverage cov;
+        int invalid = 0;
+        std::size_t most_planes = 0;
+        for (int i = 0; i < kCases; ++i) {
+            const gen::PolyCase<T> c = g.make(rng);
+            invalid += !oracle::valid(c.ray) || !oracle::valid(c.shape.view());
+            most_planes = std::max(most_planes, c.shape.planes.size());
+            const std::string why = poly_disagreement(c.ray, c.shape.view(), cov);
+            if (!why.empty() && ++cov.failures <= 5)
+                ADD_FAILURE() << g.name << " case " << i << ": " << why << "\n  " << c;
+        }
+        EXPECT_EQ(cov.failures, 0) << g.name;
+        // Each generator delivers what its name says.
+        EXPECT_EQ(invalid, g.name == "invalid" ? kCases : 0) << g.name;
+        EXPECT_LE(most_planes, 64u) << g.name;
+        if (g.name == "infeasible") {
+            EXPECT_EQ(cov.hits, 0) << "an infeasible solid was hit";
+        }
+        if (g.name == "many_planes") {
+            EXPECT_GE(most_planes, 40u) << "many_planes made no case of 40 planes or more";
+        }
+        if (g.name != "invalid" && g.name != "infeasible") {
+            EXPECT_GT(cov.hits, kCases / 10) << g.name << ": too few hits cross-checked";
+        }
+        std::cout << g.name << ": " << cov.checked << " cases, " << cov.hits << " hits, " << cov.faces
+                  << " with an entry face, " << cov.unbounded << " with an infinite end, up to " << most_planes
+                  << " planes\n";
+    }
 }
 
 }  // namespace
