@@ -26,13 +26,43 @@
 //            gamma(4)·(|offset| + Σ|n_j o_j|)) and t_k one more; where den_k is of the
 //            order of its own bound even its sign, and so the side, is unknown. Measured,
 //            not promised; no allocation.
+//            conservative — per plane N~, D~ in double with the derived bounds |N~ - N| <
+//            eN, |D~ - D| < eD (e = fl(fl(gamma(5)·S~) + 2^-1022), S~ the same sum of
+//            absolute values; derivation at poly_crossing); the sign of den, and the
+//            origin's side for a parallel plane (den == 0 exactly), are certain from the
+//            bounds or decided exactly; each crossing is enclosed by the outward-rounded
+//            quotient of the two enclosures (unbounded on one side when den may be tiny);
+//            [t_enter, t_exit] = [largest entry lower bound, smallest exit upper bound],
+//            which encloses the exact interval, so the verdict can only err towards hit.
+//            certified — the same enclosures filter each comparison of the pass (a
+//            crossing against the current entry or exit, entry against exit); what they
+//            cannot separate is decided exactly (detail/exact.hpp, detail/certified.hpp:
+//            sign(num_a·den_b - num_b·den_a)·sign(den_a)·sign(den_b), degree 4; against a
+//            limit sign(num - c·den)·sign(den), degree 3), in Shewchuk expansions, or
+//            BigDyadic beyond their safe range (2^±1000 scaling, denormals), where the
+//            bounds overflow and the filter declines everything. The verdict and the face
+//            are exact; the winners' t is faithfully rounded: a plane ±e_i as the box's
+//            slab values are (so a polyhedron of a box's planes answers as the box, bit
+//            for bit), any other plane as the plane's crossing is (plane_pin, the
+//            enclosure, else an exact quotient). verdict() runs the same pass without the
+//            rounding. No allocation, any number of planes.
 #pragma once
 
+#include <rayproof/detail/certified.hpp>
+#include <rayproof/detail/exact.hpp>
+#include <rayproof/detail/interval.hpp>
 #include <rayproof/detail/prepared.hpp>
+#include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/validate.hpp>
+#include <rayproof/ray_aabb.hpp>
+#include <rayproof/ray_plane.hpp>
 #include <rayproof/types.hpp>
 
+#include <cmath>
 #include <cstddef>
+#include <limits>
+#include <optional>
+#include <span>
 
 namespace rayproof::detail {
 
@@ -71,6 +101,283 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedPolyhedron<T>& p,
     h.t_exit = t1;
     h.face = face;
     return h;
+}
+
+// ---- Conservative and certified: the planes' crossings with derived bounds ------------
+
+// One plane's num = offset - n·o and den = n·d, computed in double (exact conversions for
+// float inputs) as N~ = fl(fl(fl(offset - p_0) - p_1) - p_2) and D~ = fl(fl(p_0 + p_1) +
+// p_2), p_j = fl(n_j o_j) (resp. fl(n_j d_j)), with the bounds eN, eD below.
+// Bound: each product is (1 + δ)·exact plus at most 2^-1075 where it falls in the
+// subnormal range, each sum (1 + δ), |δ| <= u. In N~ the offset passes 3 subtractions,
+// n_0 o_0 its product's rounding and 3, n_1 o_1 1 + 2, n_2 o_2 1 + 1: at most 4 roundings
+// on any term (Higham, ASNA, Lemma 3.1), so |N~ - N| <= gamma(4)·S_N + 3·2^-1075·(1 +
+// gamma(3)), S_N = |offset| + Σ|n_j o_j|; in D~ the first sum 0 + p_0 is exact, so at
+// most 3: |D~ - D| <= gamma(3)·S_D + 3·2^-1075·(1 + gamma(2)), S_D = Σ|n_j d_j|.
+// S~ (the same sums of |n_j|·|o_j|, nonnegative terms, rounded alike) is at least
+// S(1 - gamma(5)) - 2^-1073. The bound is e = fl(fl(K·S~) + eta) with K = fl(gamma(5))
+// and eta = 2^-1022:
+//     e >= ((gamma(5)(1 - u)·S~)(1 - u) + eta)(1 - u)
+//       >= gamma(5)(1 - u)^3 (1 - gamma(5))·S - 2^-1120 + eta(1 - u)
+//       >  gamma(4)·S + 2^-1072          (gamma(5)(1 - u)^3(1 - gamma(5)) > gamma(4))
+// so |N~ - N| < eN and |D~ - D| < eD, strictly. Contraction (detail/eft.hpp): class C1,
+// a fused product-sum has fewer roundings. Overflow: a finite e means every partial sum
+// of absolute values is finite, so every product and partial sum of N~ and D~ is; an
+// infinite e (overflow at extreme exponents) bounds nothing, and the enclosures below
+// are then the whole line, which the exact stage decides.
+struct PolyCrossing {
+    double N, D, eN, eD;
+    bool finite_N, finite_D;  // eN (resp. eD) finite: the bound holds
+};
+template <class T> RAYPROOF_ALWAYS_INLINE PolyCrossing poly_crossing(const Ray<T>& r, const Plane<T>& p) {
+    constexpr double K = gamma<double>(5), eta = 0x1p-1022, big = std::numeric_limits<double>::max();
+    double N = double(p.offset), SN = std::abs(N), D = 0, SD = 0;
+    for (int j = 0; j < 3; ++j) {
+        const double n = double(p.normal[j]), o = double(r.origin[j]), d = double(r.direction[j]);
+        N = N - n * o;
+        D = D + n * d;
+        SN = SN + std::abs(n) * std::abs(o);
+        SD = SD + std::abs(n) * std::abs(d);
+    }
+    const double eN = K * SN + eta, eD = K * SD + eta;
+    return {N, D, eN, eD, eN <= big, eD <= big};
+}
+
+// The enclosure of num (or den) from its computed value and bound, outward rounded (the
+// whole line when the bound does not hold).
+inline Interval<double> around(double x, double e, bool finite) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    if (!finite) return {-inf, inf};
+    return Interval<double>(x) + Interval<double>(-e, e);
+}
+
+// The ray and the planes as a source of exact quotients (detail/certified.hpp): plane k's
+// crossing num_k/den_k (side ignored). Degree 2 in the inputs, so a comparison of two
+// crossings, sign(num_a·den_b - num_b·den_a), is degree 4: exact in Expansion for
+// expansion_safe inputs, else in BigDyadic (with_exact), over the whole finite range.
+template <class T> class PolySource {
+public:
+    PolySource(const Ray<T>& r, std::span<const Plane<T>> planes) : r_(&r), planes_(planes) {}
+    template <class E> E num(int k, int = 0) const {
+        const Plane<T>& p = planes_[std::size_t(k)];
+        E s(double(p.offset));
+        for (int j = 0; j < 3; ++j) s = s - E(double(p.normal[j])) * E(double(r_->origin[j]));
+        return s;
+    }
+    template <class E> E den(int k) const {
+        const Plane<T>& p = planes_[std::size_t(k)];
+        E s(0.0);
+        for (int j = 0; j < 3; ++j) s = s + E(double(p.normal[j])) * E(double(r_->direction[j]));
+        return s;
+    }
+    // Every input expansion_safe (decided once, on first use: the exact stage is rare).
+    bool safe() const {
+        if (safe_ < 0) {
+            bool s = expansion_safe(r_->origin) && expansion_safe(r_->direction);
+            for (const Plane<T>& p : planes_) s = s && expansion_safe(p.normal) && expansion_safe(p.offset);
+            safe_ = s;
+        }
+        return safe_ != 0;
+    }
+    int num_sign(int k) const {
+        return exact_sign(safe(), [&](auto tag) { return num<typename decltype(tag)::type>(k); });
+    }
+    int den_sign(int k) const {
+        return exact_sign(safe(), [&](auto tag) { return den<typename decltype(tag)::type>(k); });
+    }
+
+private:
+    const Ray<T>* r_;
+    std::span<const Plane<T>> planes_;
+    mutable int safe_ = -1;
+};
+
+static_assert(ExactQuotients<PolySource<float>> && ExactQuotients<PolySource<double>>);
+
+// A plane whose normal is ±e_i (one component ±1, the others 0) is a box's slab plane:
+// its crossing is (p - o_i)/d_i with p = ±offset (num and den multiplied by n_i = ±1,
+// exactly). Such a crossing is rounded as the box rounds its slab values
+// (faithful_slab_value, then exact arithmetic on p - o_i over d_i with the same exact
+// type choice: every input expansion_safe), so that a polyhedron made of a box's planes
+// answers as the box does, bit for bit.
+template <class T> struct AxisCrossing {
+    T p, o, d;
+    bool all_safe;
+    bool safe() const { return all_safe; }
+    template <class E> E num(int = 0, int = 0) const { return E(double(p)) - E(double(o)); }
+    template <class E> E den(int = 0) const { return E(double(d)); }
+};
+static_assert(ExactQuotients<AxisCrossing<float>> && ExactQuotients<AxisCrossing<double>>);
+
+// Plane k's crossing faithfully rounded to T, given an enclosure v of it (den_k != 0).
+// A slab plane as above; any other by the plane's own rounding (PlaneCrossing::faithful:
+// plane_pin's pinned candidate, else the enclosure when it pins one float, else exact),
+// so that a one-plane polyhedron and the plane agree on t.
+template <class T>
+T poly_faithful(const Ray<T>& r, const Plane<T>& p, const PolySource<T>& src, const Interval<double>& v,
+                bool& went_exact) {
+    const T* n = p.normal.data();
+    for (int i = 0; i < 3; ++i) {
+        const int a = (i + 1) % 3, b = (i + 2) % 3;
+        if ((n[i] == 1 || n[i] == -1) && n[a] == 0 && n[b] == 0) {
+            const T q = n[i] > 0 ? p.offset : -p.offset;
+            if (const std::optional<T> t = faithful_slab_value<T>(q, r.origin[i], r.direction[i])) return *t;
+            RAYPROOF_COUNT_EXACT(went_exact);
+            return exact_faithful<T>(AxisCrossing<T>{q, r.origin[i], r.direction[i], src.safe()}, 0, 0);
+        }
+    }
+    return PlaneCrossing<T>(r, p).faithful(v, went_exact);
+}
+
+// The exact sign of den_k from its bound, else exactly; the same for num_k.
+template <class T> int poly_den_sign(const PolyCrossing& c, const PolySource<T>& src, int k) {
+    if (c.finite_D && c.D > c.eD) return 1;
+    if (c.finite_D && c.D < -c.eD) return -1;
+    return src.den_sign(k);
+}
+// num_k >= 0: the origin lies in the closed half-space (decides a parallel plane).
+template <class T> bool poly_inside(const PolyCrossing& c, const PolySource<T>& src, int k) {
+    if (c.finite_N && c.N >= c.eN) return true;
+    if (c.finite_N && c.N < -c.eN) return false;
+    return src.num_sign(k) >= 0;
+}
+
+// Conservative: the latest entry's lower enclosure bound and the earliest exit's upper
+// one. Every sign that decides a side (den_k's, and num_k's for a parallel plane) is
+// exact (from the bound, else exact arithmetic), so no plane is put on the wrong side; a
+// crossing whose den may be tiny has an enclosure unbounded on one side
+// (divide_signed). So the verdict can only err towards hit, [t_enter, t_exit] encloses
+// the exact interval, and the face (the plane of the largest lower bound) may differ from
+// the exact one on near ties.
+template <class T> Hit<T> query(const Ray<T>& r, const PreparedPolyhedron<T>& p, conservative_t) {
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
+    const std::span<const Plane<T>> planes = p.shape.planes;
+    const PolySource<T> src(r, planes);
+    Hit<T> h;
+    double lo = r.t_min, hi = r.t_max;
+    int face = -1;
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+        const PolyCrossing c = poly_crossing(r, planes[k]);
+        const int s = poly_den_sign(c, src, int(k));
+        if (s == 0) {
+            if (!poly_inside(c, src, int(k))) return h;
+            continue;
+        }
+        const Interval<double> v =
+            divide_signed(around(c.N, c.eN, c.finite_N), around(c.D, c.eD, c.finite_D), s);
+        if (s < 0) {
+            if (v.lo > lo) {
+                lo = v.lo;
+                face = int(k);
+            }
+        } else if (v.hi < hi) {
+            hi = v.hi;
+        }
+        if (lo > hi) return h;  // the exact entry exceeds the exact exit: a miss
+    }
+    h.verdict = Verdict::hit;
+    h.t_enter = round_down_to<T>(lo);
+    h.t_exit = round_up_to<T>(hi);
+    h.face = face;
+    return h;
+}
+
+// Certified: one pass over the planes, the slab method's certified form
+// (detail/slab_certified.hpp) over k planes instead of three axes, kept without any
+// array (no allocation, any number of planes): the current entry and exit are each
+// either the limit (t_min, t_max) or a plane index, with its enclosure; a plane
+// replaces the entry only when its crossing is strictly greater (t_min first, then the
+// planes in order: the lowest index wins ties, duplicates included), the exit when
+// strictly smaller. Each comparison is decided by the enclosures when they are disjoint
+// (the filter) and exactly otherwise (exact_compare: the sign of num_a·den_b -
+// num_b·den_a times the signs of the dens, or of num - c·den against a limit). With
+// Full, the winners are then rounded faithfully (poly_faithful); without, only the
+// verdict is answered, by the same decisions.
+template <class T, bool Full> Hit<T> poly_certified(const Ray<T>& r, std::span<const Plane<T>> planes) {
+    RAYPROOF_COUNT_QUERY();
+    bool went_exact = false;
+    const PolySource<T> src(r, planes);
+    Hit<T> h;
+    SlabRef in{-1, 0, double(r.t_min)}, out{-1, 0, double(r.t_max)};
+    Interval<double> vin(double(r.t_min)), vout(double(r.t_max));
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+        const PolyCrossing c = poly_crossing(r, planes[k]);
+        const int s = poly_den_sign(c, src, int(k));
+        if (s == 0) {
+            if (!poly_inside(c, src, int(k))) {
+                RAYPROOF_COUNT_FLUSH(went_exact);
+                return h;
+            }
+            continue;
+        }
+        const Interval<double> v =
+            divide_signed(around(c.N, c.eN, c.finite_N), around(c.D, c.eD, c.finite_D), s);
+        const SlabRef x{int(k), 0, 0};
+        if (s < 0) {  // entering: replace on a strictly greater crossing
+            bool greater;
+            if (v.lo > vin.hi) {
+                greater = true;
+            } else if (v.hi <= vin.lo) {
+                greater = false;
+            } else {
+                RAYPROOF_COUNT_EXACT(went_exact);
+                greater = exact_compare(src, x, in) > 0;
+            }
+            if (greater) in = x, vin = v;
+        } else {  // leaving: replace on a strictly smaller crossing (ties: same value)
+            bool less;
+            if (v.hi < vout.lo) {
+                less = true;
+            } else if (v.lo >= vout.hi) {
+                less = false;
+            } else {
+                RAYPROOF_COUNT_EXACT(went_exact);
+                less = exact_compare(src, x, out) < 0;
+            }
+            if (less) out = x, vout = v;
+        }
+        if (vin.lo > vout.hi) {  // certainly entry > exit: a miss, whatever follows
+            RAYPROOF_COUNT_FLUSH(went_exact);
+            return h;
+        }
+    }
+    int order;  // sign(entry - exit)
+    if (vin.hi < vout.lo) {
+        order = -1;
+    } else if (vin.lo > vout.hi) {
+        order = 1;
+    } else {
+        RAYPROOF_COUNT_EXACT(went_exact);
+        order = exact_compare(src, in, out);
+    }
+    if (order > 0) {
+        RAYPROOF_COUNT_FLUSH(went_exact);
+        return h;
+    }
+    h.verdict = Verdict::hit;
+    h.face = in.axis;  // -1 for t_min
+    if constexpr (Full) {
+        h.t_enter = in.axis < 0 ? r.t_min : poly_faithful(r, planes[std::size_t(in.axis)], src, vin, went_exact);
+        h.t_exit = out.axis < 0 ? r.t_max
+                   : order == 0 ? h.t_enter
+                                : poly_faithful(r, planes[std::size_t(out.axis)], src, vout, went_exact);
+        // Two different exact values in one gap between adjacent floats may round apart
+        // the wrong way; the smaller rounding is faithful for both then.
+        if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;
+    }
+    RAYPROOF_COUNT_FLUSH(went_exact);
+    return h;
+}
+
+template <class T> Hit<T> query(const Ray<T>& r, const PreparedPolyhedron<T>& p, certified_t) {
+    if (!p.ok || !valid(r)) return invalid_hit<T>();
+    return poly_certified<T, true>(r, p.shape.planes);
+}
+
+// The certified verdict alone: the full query's decisions, without the rounding of t.
+template <class T> Verdict verdict_query(const Ray<T>& r, const PreparedPolyhedron<T>& p, certified_t) {
+    if (!p.ok || !valid(r)) return Verdict::invalid;
+    return poly_certified<T, false>(r, p.shape.planes).verdict;
 }
 
 }  // namespace rayproof::detail
