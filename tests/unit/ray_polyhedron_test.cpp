@@ -14,9 +14,11 @@
 //   - a flat slab from two opposite planes with equal offsets;
 //   - invalid inputs (zero normal, non-finite numbers, the ray's own classes);
 //   - verdict() == intersect().verdict in every mode; batch == scalar and PreparedRay ==
-//     Ray bit for bit in certified mode; conservative encloses the certified interval.
+//     Ray (and RuntimeMode::certified == certified) bit for bit in certified mode;
+//     conservative encloses the certified interval.
 // Every random case is seeded (RAYPROOF_SEED=<decimal> replays, seeded.hpp) and prints
-// the ray and the planes in hexadecimal when it fails.
+// the ray and the planes in hexadecimal when it fails; vectors are drawn in braces, whose
+// elements are evaluated left to right, so every compiler draws the same cases.
 #include "seeded.hpp"
 #include "unit_support.hpp"
 
@@ -148,8 +150,8 @@ template <class T> T step_up(T x) { return std::nextafter(x, std::numeric_limits
 template <class T> T step_down(T x) { return std::nextafter(x, -std::numeric_limits<T>::infinity()); }
 
 // Every cross-check of one ray against one polyhedron that needs no reference answer:
-// verdict() == intersect().verdict in every mode, PreparedRay == Ray bit for bit in
-// certified mode, conservative encloses certified (the exact ends lie within one step
+// verdict() == intersect().verdict in every mode, PreparedRay == Ray and the run-time
+// mode == the tag bit for bit in certified mode, conservative encloses certified (the exact ends lie within one step
 // of the certified ones).
 template <class T> void self_consistent(const Ray<T>& r, const ConvexPolyhedron<T>& c) {
     const Hit<T> cert = intersect(r, c, certified);
@@ -159,6 +161,8 @@ template <class T> void self_consistent(const Ray<T>& r, const ConvexPolyhedron<
     EXPECT_EQ(verdict(r, c, conservative), cons.verdict);
     const PreparedRay<T> pr(r);
     EXPECT_TRUE(same_hit(intersect(pr, c, certified), cert));
+    EXPECT_TRUE(same_hit(intersect(r, c, RuntimeMode::certified), cert));
+    EXPECT_EQ(verdict(r, c, RuntimeMode::certified), cert.verdict);
     EXPECT_EQ(verdict(pr, c, certified), cert.verdict);
     if (cert.verdict == Verdict::invalid) {
         EXPECT_EQ(cons.verdict, Verdict::invalid);
@@ -242,7 +246,7 @@ TYPED_TEST(RayPolyhedron, BoxAmongRedundantPlanesUpTo64) {
         const std::vector<Plane<T>> bp = box_planes(s.box);
         const int extra = count(rng);
         for (int k = 0; k < extra; ++k) {
-            Vec3<T> nrm(T(unit(rng)), T(unit(rng)), T(unit(rng)));
+            Vec3<T> nrm{T(unit(rng)), T(unit(rng)), T(unit(rng))};
             if (nrm.isZero()) nrm[0] = T(1);
             p.push_back({nrm, T(100)});
         }
@@ -335,7 +339,7 @@ TYPED_TEST(RayPolyhedron, InfeasibleSetsMissAndUnboundedSetsHit) {
     auto rng = make_rng();
     std::uniform_real_distribution<double> u(-8, 8);
     for (int n = 0; n < 2000; ++n) {
-        const Ray<T> r{Vec3<T>(T(u(rng)), T(u(rng)), T(u(rng))), Vec3<T>(T(u(rng)), T(u(rng)), T(u(rng))), -inf, inf};
+        const Ray<T> r{Vec3<T>{T(u(rng)), T(u(rng)), T(u(rng))}, Vec3<T>{T(u(rng)), T(u(rng)), T(u(rng))}, -inf, inf};
         EXPECT_EQ(intersect(r, e2, certified).verdict, Verdict::miss) << r;
         EXPECT_EQ(intersect(r, e2, conservative).verdict == Verdict::invalid, false) << r;
         EXPECT_EQ(verdict(r, e2, certified), Verdict::miss) << r;
@@ -364,9 +368,9 @@ TYPED_TEST(RayPolyhedron, OnePlaneIsTheHalfSpace) {
     std::uniform_int_distribution<int> small(-6, 6), pick(0, 5);
     int entering = 0, leaving = 0, parallel = 0;
     for (int n = 0; n < 20000; ++n) {
-        Plane<T> pl{Vec3<T>(T(small(rng)), T(small(rng)), T(small(rng))), T(small(rng))};
+        Plane<T> pl{Vec3<T>{T(small(rng)), T(small(rng)), T(small(rng))}, T(small(rng))};
         if (pl.normal.isZero()) pl.normal[2] = T(3);
-        Ray<T> r{Vec3<T>(T(small(rng)), T(small(rng)), T(small(rng))), Vec3<T>(T(small(rng)), T(small(rng)), T(small(rng)))};
+        Ray<T> r{Vec3<T>{T(small(rng)), T(small(rng)), T(small(rng))}, Vec3<T>{T(small(rng)), T(small(rng)), T(small(rng))}};
         if (r.direction.isZero()) r.direction[1] = T(1);
         const int k = pick(rng);
         if (k == 0) r.direction = Vec3<T>(pl.normal[1], -pl.normal[0], T(0));  // parallel (or zero)
@@ -475,7 +479,7 @@ TYPED_TEST(RayPolyhedron, BatchEqualsScalar) {
     std::uniform_real_distribution<double> unit(-1, 1);
     // A random polyhedron of 20 planes around the origin, and the hard scenes' rays.
     std::vector<Plane<T>> p;
-    for (int k = 0; k < 20; ++k) p.push_back({Vec3<T>(T(unit(rng)), T(unit(rng)), T(unit(rng))), T(2 + unit(rng))});
+    for (int k = 0; k < 20; ++k) p.push_back({Vec3<T>{T(unit(rng)), T(unit(rng)), T(unit(rng))}, T(2 + unit(rng))});
     const ConvexPolyhedron<T> c{p};
     std::vector<Ray<T>> rays;
     for (int n = 0; n < 3000; ++n) rays.push_back(hard_scene<T>(rng).ray);
