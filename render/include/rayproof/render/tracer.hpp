@@ -22,11 +22,12 @@
 // Shadow rays are traced only towards lights, reflected rays only for reflective
 // materials, refracted rays only for transparent ones.
 //
-// Inside and outside: a solid (sphere, box) whose interval starts at the ray's t_min
-// (boxes: face == -1) contains the ray's origin; the ray then meets the surface where it
-// leaves, at t_exit (boxes: the exit face is the entry face of rayproof::reversed(ray)),
-// and refraction goes from the solid's index to 1. Planes are surfaces, not solids: a
-// transparent plane is a thin sheet that lets rays through undeviated; a ray lying in a
+// Inside and outside: a solid (sphere, box, polyhedron) whose interval starts at the
+// ray's t_min (boxes, polyhedra: face == -1) contains the ray's origin; the ray then meets
+// the surface where it leaves, at t_exit (boxes, polyhedra: the exit face is the entry
+// face of rayproof::reversed(ray)), and refraction goes from the solid's index to 1.
+// Planes are surfaces, not solids: a transparent plane is a thin sheet that lets rays
+// through undeviated; a ray lying in a
 // plane does not see it.
 //
 // Secondary-ray origins: see SurfacePoint::offset below (no fixed epsilon).
@@ -54,6 +55,11 @@ enum class OffsetPolicy { error_bound, naive };
 struct TraceOptions {
     OffsetPolicy offset = OffsetPolicy::error_bound;
     double naive_t_min = 1e-4;
+    // The bounding-sphere pre-filter of convex polyhedra (polyhedron.hpp): a ray that
+    // misses the ball is not asked against the planes. Off: every plane is asked. The
+    // image is the same either way in conservative and certified modes (the ball holds
+    // the solid exactly); kept switchable to measure what it saves.
+    bool polyhedron_prefilter = true;
 };
 
 struct Stats {
