@@ -66,10 +66,13 @@ Stored stored_plane(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
         using E = typename decltype(tag)::type;
         const ExactPlane<E> p = exact_plane<E>(a, b, c);
         if (p.overflowed()) return std::nullopt;
-        // Divisors: 1, then |n_j| for each nonzero n_j (a positive factor keeps the half-space).
-        std::vector<E> divisors{E(1.0)};
+        // Divisors: |n_j| for each nonzero n_j, then 1 (a positive factor keeps the
+        // half-space); the first makes a normal component ±1 when it can.
+        std::vector<E> divisors;
         for (int j = 0; j < 3; ++j)
             if (p.n[j].sign() != 0) divisors.push_back(p.n[j].sign() > 0 ? p.n[j] : E(-p.n[j]));
+        const std::size_t nonzero = divisors.size();
+        divisors.push_back(E(1.0));
         for (const E& s : divisors) {
             Stored st;
             bool ok = true;
@@ -86,8 +89,8 @@ Stored stored_plane(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
             return st;
         }
         // Inexact: n divided by its largest |n_j|, faithfully rounded.
-        E largest = divisors[1];
-        for (std::size_t k = 2; k < divisors.size(); ++k)
+        E largest = divisors[0];
+        for (std::size_t k = 1; k < nonzero; ++k)
             if (rayproof::detail::compare_quotients(divisors[k], E(1.0), largest, E(1.0)) > 0) largest = divisors[k];
         Stored st;
         for (int j = 0; j < 3; ++j) st.plane.normal[j] = rayproof::detail::faithful_quotient<double>(p.n[j], largest);
@@ -249,9 +252,9 @@ std::optional<Sphere<double>> enclosing_sphere(std::span<const Vec3d> pts) {
 }
 
 double dodecahedron_h() {
-    // round(2^26/φ)/2^26, φ = (1 + sqrt 5)/2: an integer below 2^26 over 2^26 (the
-    // rounding of 2/(1 + sqrt 5) in double is far below the 2^-27 that decides it).
-    static const double h = std::nearbyint(0x1p26 * 2 / (1 + std::sqrt(5.0))) * 0x1p-26;
+    // round(2^13/φ)/2^13, φ = (1 + sqrt 5)/2: an integer below 2^13 over 2^13 (the
+    // rounding of 2/(1 + sqrt 5) in double is far below the 2^-14 that decides it).
+    static const double h = std::nearbyint(0x1p13 * 2 / (1 + std::sqrt(5.0))) * 0x1p-13;
     return h;
 }
 
@@ -273,7 +276,7 @@ std::vector<Vec3d> preset_points(std::string_view name) {
             for (double y : {-1.0, 1.0})
                 for (double z : {-1.0, 1.0}) v.push_back(Vec3d(x, y, z));
         if (name == "dodecahedron") {
-            const double h = dodecahedron_h(), a = 1 + h, b = 1 - h * h;  // both exact: 27 and 52 bits
+            const double h = dodecahedron_h(), a = 1 + h, b = 1 - h * h;  // both exact: 14 and 26 bits
             for (double s : {-1.0, 1.0})
                 for (double t : {-1.0, 1.0}) {
                     v.push_back(Vec3d(0, s * a, t * b));

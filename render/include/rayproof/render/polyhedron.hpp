@@ -12,8 +12,8 @@
 // point lies strictly on each side of its plane; the facet is kept once per plane (the
 // set of points on it identifies it). Its plane is stored exactly when it can be:
 // n = (b - a) × (c - a) and offset = n·a, computed exactly, then divided exactly by
-// 1, |n_0|, |n_1| or |n_2| (a positive factor: the same half-space), the first
-// division whose four quotients are all doubles. Integer and dyadic points of
+// |n_0|, |n_1|, |n_2| (the nonzero ones) or 1 (a positive factor: the same
+// half-space), the first division whose four quotients are all doubles. Integer and dyadic points of
 // moderate size give exact planes (n and n·a fit in a double), and so do planes like
 // h·x + y <= 1 + h whose normal is a multiple of a double vector (the dodecahedron
 // preset). Then the stored solid is exactly the hull of the points (HullResult::exact).
@@ -91,11 +91,15 @@ int orient(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vect
 //                 2x + y <= 1, -2x + y <= 1, ±z <= 1
 //   cube          (±1, ±1, ±1)
 //   dodecahedron  the pyritohedron (±1,±1,±1), (0, ±(1+h), ±(1-h²)) and its cyclic
-//                 permutations, h = round(2^26/φ)/2^26 (φ the golden ratio): every
-//                 coordinate is a double, its 12 planes are exactly (±h, ±1, 0)·p <= 1 + h
-//                 and their cyclic permutations; at h = 1/φ it would be the regular
-//                 dodecahedron, from which this one differs by less than 2^-25 of its
-//                 size (|h - 1/φ| <= 2^-27)
+//                 permutations, h = round(2^13/φ)/2^13 (φ the golden ratio): every
+//                 coordinate is a double of at most 26 significant bits, its 12 planes
+//                 are exactly (±h, ±1, 0)·p <= 1 + h and their cyclic permutations; at
+//                 h = 1/φ it would be the regular dodecahedron, from which this one
+//                 differs by less than 2^-12 of its size (|h - 1/φ| <= 2^-14)
+// The few significant bits keep center + size·v exact for a center and a size of few
+// bits (0.75, 1.5, 2.25, ...). Otherwise the points are rounded: the hull of the rounded
+// points is what is stored (for the dodecahedron its pentagons may then split into
+// facets of slightly different planes, and the planes may be inexact, see above).
 std::vector<Eigen::Vector3d> preset_points(std::string_view name);
 inline constexpr const char* preset_names = "tetrahedron, octahedron, prism, cube, dodecahedron";
 // h of the dodecahedron preset.

@@ -55,10 +55,10 @@ enum class OffsetPolicy { error_bound, naive };
 struct TraceOptions {
     OffsetPolicy offset = OffsetPolicy::error_bound;
     double naive_t_min = 1e-4;
-    // The bounding-sphere pre-filter of convex polyhedra (polyhedron.hpp): a ray that
-    // misses the ball is not asked against the planes. Off: every plane is asked. The
-    // image is the same either way in conservative and certified modes (the ball holds
-    // the solid exactly); kept switchable to measure what it saves.
+    // The bounding-sphere pre-filter of convex polyhedra (polyhedron.hpp), certified mode
+    // only (where it pays, see tracer.cpp): a ray whose certified verdict on the ball is a
+    // miss is not asked against the planes. Off: every plane is asked. The image is the
+    // same either way (the ball holds the solid exactly); switchable to measure it.
     bool polyhedron_prefilter = true;
 };
 
