@@ -12,7 +12,8 @@ find_library(RAYPROOF_GMP_LIBRARY gmp REQUIRED)
 
 # compensated_test: the double-word stage (rayproof/detail/compensated.hpp), likewise.
 # faithful_test: the contract's t tolerance helper (faithful.hpp) against GMP rationals.
-foreach(t exact_test compensated_test faithful_test)
+# ray_polyhedron_exact_test: the polyhedron with general planes against GMP rationals.
+foreach(t exact_test compensated_test faithful_test ray_polyhedron_exact_test)
   add_executable(${t} ${CMAKE_CURRENT_LIST_DIR}/${t}.cpp)
   target_include_directories(${t} SYSTEM PRIVATE ${RAYPROOF_GMPXX_INCLUDE_DIR})
   target_link_libraries(${t} PRIVATE rayproof::kernel GTest::gtest_main

@@ -4,6 +4,7 @@
 
 #include <rayproof/types.hpp>
 
+#include <cstddef>
 #include <ios>
 #include <ostream>
 
@@ -64,6 +65,11 @@ template <class T> std::ostream& operator<<(std::ostream& os, const Sphere<T>& s
     detail::put_vec(os, s.center);
     os << " radius=";
     detail::put(os, s.radius);
+    return os << '}';
+}
+template <class T> std::ostream& operator<<(std::ostream& os, const ConvexPolyhedron<T>& c) {
+    os << "ConvexPolyhedron{";
+    for (std::size_t k = 0; k < c.planes.size(); ++k) os << (k ? " " : "") << c.planes[k];
     return os << '}';
 }
 template <class T> std::ostream& operator<<(std::ostream& os, const Hit<T>& h) {

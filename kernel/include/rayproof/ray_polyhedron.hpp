@@ -39,8 +39,9 @@
 //            cannot separate is decided exactly (detail/exact.hpp, detail/certified.hpp:
 //            sign(num_a·den_b - num_b·den_a)·sign(den_a)·sign(den_b), degree 4; against a
 //            limit sign(num - c·den)·sign(den), degree 3), in Shewchuk expansions, or
-//            BigDyadic beyond their safe range (2^±1000 scaling, denormals), where the
-//            bounds overflow and the filter declines everything. The verdict and the face
+//            BigDyadic beyond their safe range (2^±1000 scaling, denormals: there the
+//            bounds overflow, or their 2^-1022 floor swamps the values, and the filter
+//            declines what it cannot separate). The verdict and the face
 //            are exact; the winners' t is faithfully rounded: a plane ±e_i as the box's
 //            slab values are (so a polyhedron of a box's planes answers as the box, bit
 //            for bit), any other plane as the plane's crossing is (plane_pin, the
