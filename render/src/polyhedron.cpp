@@ -131,7 +131,25 @@ bool collinear(const Vec3d& a, const Vec3d& b, const Vec3d& c) {
 
 }  // namespace
 
+// Fast path: when the nine differences are exact in double (Knuth's TwoSum leaves no
+// error term: integer and dyadic points of moderate size), the orientation is the sign
+// of the determinant of those doubles, which the kernel's det3_sign decides exactly
+// (its filter, else expansions). Otherwise the differences themselves are taken
+// exactly, in expansions.
 int orient(const Vec3d& a, const Vec3d& b, const Vec3d& c, const Vec3d& d) {
+    Eigen::Matrix3d m;
+    bool exact = true;
+    for (int i = 0; i < 3 && exact; ++i) {
+        const rayproof::detail::Pair du = rayproof::detail::two_sum(b[i], -a[i]);
+        const rayproof::detail::Pair dv = rayproof::detail::two_sum(c[i], -a[i]);
+        const rayproof::detail::Pair dw = rayproof::detail::two_sum(d[i], -a[i]);
+        exact = du.lo == 0 && dv.lo == 0 && dw.lo == 0 && std::isfinite(du.hi) && std::isfinite(dv.hi) &&
+                std::isfinite(dw.hi);
+        m(0, i) = du.hi;
+        m(1, i) = dv.hi;
+        m(2, i) = dw.hi;
+    }
+    if (exact) return rayproof::detail::det3_sign(m);
     return rayproof::detail::exact_sign(safe({&a, &b, &c, &d}), [&](auto tag) {
         using E = typename decltype(tag)::type;
         E u[3], v[3], w[3];

@@ -180,6 +180,33 @@ TEST(PolyhedronHull, RandomPointsEulerAndContainment) {
     }
 }
 
+// orient's two paths (exact differences with det3_sign; expansions otherwise) against
+// the determinant taken in BigDyadic, on seeded points: small dyadic ones, near-coplanar
+// ones and ones with full mantissas.
+TEST(PolyhedronHull, OrientIsExact) {
+    const std::uint64_t seed = 77;
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> any(-10, 10);
+    std::uniform_int_distribution<int> small(-8, 8);
+    int zero = 0;
+    for (int i = 0; i < 3000; ++i) {
+        Vec3d p[4];
+        for (Vec3d& v : p)
+            v = i % 3 == 0 ? Vec3d(any(rng), any(rng), any(rng)) : Vec3d(small(rng), small(rng), small(rng)) * 0.25;
+        if (i % 3 == 2) p[3] = p[0] + (p[1] - p[0]) * 0.5 + (p[2] - p[0]) * 0.25;  // coplanar when exact
+        E u[3], v[3], w[3];
+        for (int k = 0; k < 3; ++k) {
+            u[k] = E(p[1][k]) - E(p[0][k]);
+            v[k] = E(p[2][k]) - E(p[0][k]);
+            w[k] = E(p[3][k]) - E(p[0][k]);
+        }
+        const E det = (u[1] * v[2] - u[2] * v[1]) * w[0] + (u[2] * v[0] - u[0] * v[2]) * w[1] + (u[0] * v[1] - u[1] * v[0]) * w[2];
+        ASSERT_EQ(orient(p[0], p[1], p[2], p[3]), det.sign()) << "seed " << seed << ", case " << i;
+        zero += det.sign() == 0;
+    }
+    EXPECT_GT(zero, 900);  // the coplanar cases are decided 0, not by a tolerance
+}
+
 TEST(PolyhedronHull, InexactPlanesStillHoldEveryPoint) {
     // Coordinates with full 53-bit mantissas: n = (b - a) × (c - a) needs about 106 bits.
     const std::vector<Vec3d> pts{Vec3d(0.1, 0.2, 0.3), Vec3d(1.7, 0.3, 0.1), Vec3d(0.3, 1.9, 0.7),

@@ -120,7 +120,8 @@ struct SurfacePoint {
 //             to lo or hi exactly, the others clamped into the face;
 //     Sphere: p = c + v·(r/|v|), v = o + t·d - c (pbrt-v4 6.8.5 reprojection), within
 //             gamma(7)·(|c_i| + |v'_i|) of a point on the sphere per coordinate;
-//     Plane, Obb: a posteriori, from the residual g = n·p - offset (or (p-c)·a - h).
+//     Plane, Obb: a posteriori, from the residual g = n·p - offset (or (p-c)·a - h);
+//     Polyhedron: as the Plane of the face met (entry face, or exit face from inside).
 //   K keeps the new origin out of the band where the kernel itself, queried again from
 //   there, could still report the surface just left. From the kernel's stated error
 //   models: fast evaluates n operations with relative error γ(n); conservative moves
@@ -130,6 +131,8 @@ struct SurfacePoint {
 //           origin is one ulp past the face);
 //     Obb:  γ(12)·Σ_j|(p - c)_j·a_j| / |a| (o'_i: a difference, a product, two sums);
 //     Plane: γ(12)·(|offset| + Σ|n_i p_i|) / |n| (the numerator: a product, three sums);
+//     Polyhedron: the Plane's, for the face met (each plane's crossing is evaluated as a
+//           plane's; conservative's enclosure γ(5)·S is inside γ(12));
 //     Sphere: γ(24)·r (the fast mode's tangency band γ(8)·|Δ|, |Δ| ≈ r there).
 // The sum is then scaled by (1 + γ(4)) to cover the rounding of these very formulas.
 // The γ bounds hold only while no result underflows: a face at 0 pushed one ulp to
