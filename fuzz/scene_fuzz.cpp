@@ -48,6 +48,9 @@ template <class S> bool shape_valid(const S& s) {
     return intersect(probe, s, certified).verdict != Verdict::invalid;
 }
 
+// A polyhedron is asked through the kernel's view of its planes.
+bool shape_valid(const Polyhedron& p) { return shape_valid(p.kernel()); }
+
 void check_error(const ParseError& e, std::string_view text) {
     const std::string shown = e.to_string();
     if (e.message.empty() || shown.empty()) fail("error without a message", text, shown);

@@ -32,6 +32,7 @@ struct Args {
     int diff_threshold = 0;
     bool stats = false, quiet = false;
     bool no_tree_attenuation = false;
+    bool no_prefilter = false;
 };
 
 // A mode's name, checked and turned into the enum's value.
@@ -128,6 +129,7 @@ int run_render(const Args& a) {
 
     RenderOptions opt;
     opt.threads = a.threads.value_or(0);
+    opt.trace.polyhedron_prefilter = !a.no_prefilter;
     opt.progress = !a.quiet && isatty(STDERR_FILENO);
     const int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
 
@@ -261,6 +263,8 @@ void add_commands(CLI::App& app, int& status) {
                       "with --diff: count a pixel only when a channel differs by more than N (of 255); default 0")
         ->check(CLI::Range(0, 254));
     render.add_flag("--stats", r->stats, "print ray and kernel-query counts");
+    render.add_flag("--no-prefilter", r->no_prefilter,
+                    "ask every polyhedron's planes, without its bounding-sphere pre-filter (to measure it)");
     render.add_flag("-q,--quiet", r->quiet, "print nothing on success");
     set_callback(render, r, status, run_render);
 

@@ -283,6 +283,71 @@ Vec3d nonnegative_vec3(const json& j, const std::string& path) {
     return v;
 }
 
+// "polyhedron": exactly one of "planes" (each {"normal": [x, y, z], "offset": o}, the
+// solid normal·p <= offset, normals out), "vertices" (the exact convex hull of the points,
+// polyhedron.hpp) or "preset" (with "center" and "size": the hull of the preset's points
+// center + size·v, each coordinate the double nearest its value). Errors name the key
+// path of the object and, when it has one, its name.
+Polyhedron read_polyhedron(const json& j, const std::string& path) {
+    const Obj o(j, path, {"type", "name", "material", "planes", "vertices", "preset", "center", "size"});
+    std::string who;
+    if (j.contains("name") && j.at("name").is_string()) who = " (polyhedron \"" + j.at("name").get<std::string>() + "\")";
+    if (int(o.has("planes")) + int(o.has("vertices")) + int(o.has("preset")) != 1)
+        fail(o.path("planes"), "give exactly one of \"planes\", \"vertices\" or \"preset\"" + who);
+    if (!o.has("preset"))
+        for (const char* k : {"center", "size"})
+            if (o.has(k)) fail_at_key(o.path(k), std::string("only with \"preset\"") + who);
+    Polyhedron poly;
+    if (o.has("planes")) {
+        const std::string pp = o.path("planes");
+        const json& ps = o.get("planes");
+        if (!ps.is_array() || ps.empty())
+            fail(pp, "expected a non-empty array of planes {\"normal\": [x, y, z], \"offset\": o}, got " + type_name(ps) + " " +
+                         show(ps) + who);
+        if (ps.size() > max_polyhedron_planes)
+            fail(pp, "at most " + std::to_string(max_polyhedron_planes) + " planes per polyhedron, got " +
+                         std::to_string(ps.size()) + who);
+        for (std::size_t i = 0; i < ps.size(); ++i) {
+            const Obj q(ps[i], pp + "[" + std::to_string(i) + "]", {"normal", "offset"});
+            Plane<double> pl{vec3(q.get("normal"), q.path("normal")), number(q.get("offset"), q.path("offset"))};
+            if (pl.normal.isZero()) fail(q.path("normal"), "must not be the zero vector" + who);
+            poly.planes.push_back(pl);
+        }
+        return poly;
+    }
+    std::vector<Vec3d> points;
+    std::string at;
+    if (o.has("vertices")) {
+        at = o.path("vertices");
+        const json& vs = o.get("vertices");
+        if (!vs.is_array())
+            fail(at, "expected an array of points [x, y, z], got " + type_name(vs) + " " + show(vs) + who);
+        if (vs.size() > max_hull_points)
+            fail(at, "at most " + std::to_string(max_hull_points) + " vertices per polyhedron, got " +
+                         std::to_string(vs.size()) + who);
+        for (std::size_t i = 0; i < vs.size(); ++i) points.push_back(vec3(vs[i], at + "[" + std::to_string(i) + "]"));
+    } else {
+        at = o.path("preset");
+        const std::string name = string(o.get("preset"), at);
+        points = preset_points(name);
+        if (points.empty()) fail(at, std::string("expected one of ") + preset_names + ", got \"" + name + "\"" + who);
+        const Vec3d c = o.has("center") ? vec3(o.get("center"), o.path("center")) : Vec3d::Zero();
+        const double size =
+            o.has("size") ? number_in(o.get("size"), o.path("size"), 0x1p-500, max_magnitude, "a size > 0") : 1.0;
+        for (Vec3d& p : points)
+            for (int i = 0; i < 3; ++i) p[i] = std::fma(size, p[i], c[i]);  // the double nearest c_i + size·v_i
+        if (!o.has("size") && !o.has("center")) at = o.path("preset");
+        else at = o.has("size") ? o.path("size") : o.path("center");
+    }
+    HullResult h = convex_hull(points);
+    if (!h.error.empty()) fail(at, "no convex polyhedron: " + h.error + who);
+    poly.planes = std::move(h.planes);
+    poly.exact = h.exact;
+    poly.slack = h.slack;
+    if (h.exact) poly.bound = enclosing_sphere(points);
+    return poly;
+}
+
 Shape read_shape(const json& j, const std::string& path, const std::string& type) {
     if (type == "sphere") {
         const Obj o(j, path, {"type", "name", "material", "center", "radius"});
@@ -327,7 +392,9 @@ Shape read_shape(const json& j, const std::string& path, const std::string& type
         }
         return p;
     }
-    fail(path + ".type", "expected \"sphere\", \"box\", \"cube\", \"oriented_box\" or \"plane\", got \"" + type + "\"");
+    if (type == "polyhedron") return read_polyhedron(j, path);
+    fail(path + ".type",
+         "expected \"sphere\", \"box\", \"cube\", \"oriented_box\", \"plane\" or \"polyhedron\", got \"" + type + "\"");
 }
 
 int nesting_depth_error_offset(std::string_view text) {
@@ -392,7 +459,7 @@ Scene read_scene(const json& root) {
         const std::string path = "objects[" + std::to_string(i) + "]";
         const json& oj = os[i];
         if (!oj.is_object()) fail(path, "expected an object, got " + type_name(oj));
-        if (!oj.contains("type")) fail(path + ".type", "missing (required): one of sphere, box, cube, oriented_box, plane");
+        if (!oj.contains("type")) fail(path + ".type", "missing (required): one of sphere, box, cube, oriented_box, plane, polyhedron");
         Object obj;
         obj.shape = read_shape(oj, path, string(oj.at("type"), path + ".type"));
         if (oj.contains("name")) obj.name = string(oj.at("name"), path + ".name");

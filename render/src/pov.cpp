@@ -112,6 +112,13 @@ std::string material_text(const Material& m, int index, Notes& inexact) {
     return s + "}\n";
 }
 
+// "<n/|n|>, offset/|n|": POV-Ray takes a unit normal and the distance along it; both are
+// rounded to the nearest double of the quotient (the planes' one inexact step).
+std::string plane_args(const Plane<double>& p) {
+    const double len = p.normal.norm();
+    return vec(p.normal / len) + ", " + num(p.offset / len);
+}
+
 std::string object_text(const Object& o) {
     const std::string mat = "  material { M" + std::to_string(o.material) + " }\n";
     const std::string name = o.name.empty() ? "" : "// " + comment_text(o.name) + "\n";
@@ -128,9 +135,16 @@ std::string object_text(const Object& o) {
         m += num(b->center[0]) + ", " + num(b->center[1]) + ", " + num(b->center[2]) + ">\n";
         return name + "box {\n  " + vec(-b->half_extent) + ", " + vec(b->half_extent) + "\n" + m + mat + "}\n";
     }
+    // A polyhedron: the intersection of its half-spaces; POV-Ray's plane { n, d } is the
+    // solid n·p <= d for a unit n (its inside is opposite the normal), as rayproof's.
+    if (const auto* poly = std::get_if<Polyhedron>(&o.shape)) {
+        if (poly->planes.size() == 1) return name + "plane {\n  " + plane_args(poly->planes[0]) + "\n" + mat + "}\n";
+        std::string s = name + "intersection {\n";
+        for (const Plane<double>& p : poly->planes) s += "  plane { " + plane_args(p) + " }\n";
+        return s + mat + "}\n";
+    }
     const auto& p = std::get<Plane<double>>(o.shape);
-    const double len = p.normal.norm();
-    return name + "plane {\n  " + vec(p.normal / len) + ", " + num(p.offset / len) + "\n" + mat + "}\n";
+    return name + "plane {\n  " + plane_args(p) + "\n" + mat + "}\n";
 }
 
 }  // namespace

@@ -113,9 +113,36 @@ private:
 
     Hitd query(const Rayd& r, const Shape& shape) {
         ++st_.kernel_queries;
-        const Hitd h = std::visit([&](const auto& sh) { return rayproof::intersect(r, sh, M{}); }, shape);
+        const Hitd h = std::visit([&](const auto& sh) { return kernel_hit(r, sh); }, shape);
         if (h.verdict == Verdict::invalid) ++st_.invalid;
         return h;
+    }
+
+    // The kernel's answers, in the scene's mode. A polyhedron is asked through its
+    // ConvexPolyhedron view, in certified mode after the bounding-sphere pre-filter of the
+    // ray-tracing notes when it has a ball (polyhedron.hpp: the ball holds the stored
+    // solid exactly, and the certified verdict on it is exact, so a miss of the ball is a
+    // miss of the solid: the pre-filter never loses a hit). Measured on
+    // scenes/polyhedra.json (render/README.md), it pays only there: in fast and
+    // conservative modes asking the ball (conservatively: fast promises nothing) costs
+    // more than the few planes it saves, and those modes ask the planes directly.
+    template <class S> static Hitd kernel_hit(const Rayd& r, const S& s) { return rayproof::intersect(r, s, M{}); }
+    template <class S> static Verdict kernel_verdict(const Rayd& r, const S& s) { return rayproof::verdict(r, s, M{}); }
+    bool ball_misses(const Rayd& r, const Polyhedron& p) const {
+        if constexpr (!std::is_same_v<M, certified_t>) {
+            return false;
+        } else {
+            if (!p.bound || !opt_.polyhedron_prefilter) return false;
+            return rayproof::verdict(r, *p.bound, certified) == Verdict::miss;
+        }
+    }
+    Hitd kernel_hit(const Rayd& r, const Polyhedron& p) const {
+        if (ball_misses(r, p)) return Hitd{};
+        return rayproof::intersect(r, p.kernel(), M{});
+    }
+    Verdict kernel_verdict(const Rayd& r, const Polyhedron& p) const {
+        if (ball_misses(r, p)) return Verdict::miss;
+        return rayproof::verdict(r, p.kernel(), M{});
     }
 
     // How many times a shadow segment crosses the object's surface: 0 when it misses (a
@@ -131,12 +158,12 @@ private:
                 constexpr bool plane = std::is_same_v<std::decay_t<decltype(sh)>, Plane<double>>;
                 if constexpr (!plane) {
                     if (opaque) {
-                        const Verdict v = rayproof::verdict(r, sh, M{});
+                        const Verdict v = kernel_verdict(r, sh);
                         if (v == Verdict::invalid) ++st_.invalid;
                         return v == Verdict::hit ? 1 : 0;
                     }
                 }
-                const Hitd h = rayproof::intersect(r, sh, M{});
+                const Hitd h = kernel_hit(r, sh);
                 if (h.verdict == Verdict::invalid) ++st_.invalid;
                 if (!h) return 0;
                 if constexpr (plane) {
@@ -254,6 +281,48 @@ private:
         sp.p = k.p;
         sp.n = k.n;
         sp.offset = spawn_offset(k) + margin(b, h.face, sp.p);
+        return sp;
+    }
+
+    // A polyhedron's surface point: on the plane of its entry face, or for a ray inside it
+    // of its exit face, the entry face of the reversed ray (as for boxes; where fast mode
+    // answers inconsistently, the face plane nearest the point). The point and its bound
+    // E are the kernel's for that plane (rayproof::surface_point of the Plane), the normal
+    // the plane's outward unit normal, and the margin K the plane's of tracer.hpp,
+    // gamma(12)·(|offset| + Σ|n_i p_i|)/|n|: the kernel evaluates each plane's crossing
+    // as a plane's (num and den of a product and three sums; conservative's enclosure
+    // gamma(5)·S is inside it).
+    SurfacePoint at(const Polyhedron& poly, const Rayd& ray, const Candidate& c) {
+        Hitd h = c.hit;
+        Rayd r = ray;
+        if (c.inside) {
+            r = reversed(ray);
+            ++st_.kernel_queries;
+            h = kernel_hit(r, poly);
+            if (h.verdict == Verdict::invalid) ++st_.invalid;
+            if (!h || h.face < 0) h = Hitd{Verdict::hit, -c.t, -c.t, -1};
+        } else {
+            h.t_enter = c.t;
+        }
+        if (h.face < 0 || std::size_t(h.face) >= poly.planes.size()) {
+            const Vec3d p = ray.origin + c.t * ray.direction;
+            double dmin = inf;
+            for (std::size_t k = 0; k < poly.planes.size(); ++k) {
+                const Plane<double>& q = poly.planes[k];
+                const double d = std::abs(q.normal.dot(p) - q.offset) / q.normal.norm();
+                if (d < dmin) dmin = d, h.face = int(k);
+            }
+        }
+        const Plane<double>& pl = poly.planes[std::size_t(h.face)];
+        h.verdict = Verdict::hit;
+        const rayproof::SurfacePoint<double> k = surface_point(r, pl, h);
+        SurfacePoint sp;
+        sp.p = k.p;
+        sp.n = ::rayproof::detail::unit_vector<double>(pl.normal);
+        const Vec3d& n = pl.normal;
+        const double terms =
+            std::abs(n[0] * sp.p[0]) + std::abs(n[1] * sp.p[1]) + std::abs(n[2] * sp.p[2]) + std::abs(pl.offset);
+        sp.offset = spawn_offset(k) + gamma_bound(12) * terms / n.norm();
         return sp;
     }
 

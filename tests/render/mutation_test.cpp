@@ -45,7 +45,7 @@ std::string mutate(std::string s, std::mt19937_64& rng) {
 TEST(ParserMutations, EveryInputGetsASceneOrAClearError) {
     std::mt19937_64 rng(20240611);
     int accepted = 0, rejected = 0;
-    for (const char* name : {"default.json", "cube.json", "hostile.json", "notes.json"}) {
+    for (const char* name : {"default.json", "cube.json", "hostile.json", "notes.json", "polyhedra.json"}) {
         const std::string original = read_file(scene_path(name));
         ASSERT_FALSE(original.empty()) << name;
         for (int i = 0; i < 400; ++i) {

@@ -348,10 +348,14 @@ TEST(SceneFiles, EveryValueErrorPointsAtTheValue) {
             if (i == broken)
                 for (auto& f : fields)
                     if (f.rfind(std::string("\"") + b.key + "\"", 0) == 0)
-                        f = "\"" + std::string(b.key) + "\":" + space() + b.value;
+                        f = std::string("\"").append(b.key).append("\":").append(space()).append(b.value);
             std::shuffle(std::begin(fields), std::end(fields), rng);
-            text += (i ? "," : "") + space() + "{" + space();
-            for (int k = 0; k < 4; ++k) text += (k ? "," + space() : "") + fields[k] + space();
+            // Appended piece by piece: g++ 12 warns falsely (-Wrestrict) on "literal" + std::string&&.
+            text.append(i ? "," : "").append(space()).append("{").append(space());
+            for (int k = 0; k < 4; ++k) {
+                if (k) text.append(",").append(space());
+                text.append(fields[k]).append(space());
+            }
             text += "}";
         }
         text += space() + "]" + space() + "}";

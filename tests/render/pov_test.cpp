@@ -126,7 +126,7 @@ TEST_P(PovRay, ExportParsesAndRenders) {
 #endif
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, PovRay, ::testing::Values("default", "cube", "hostile", "notes"));
+INSTANTIATE_TEST_SUITE_P(Scenes, PovRay, ::testing::Values("default", "cube", "hostile", "notes", "polyhedra"));
 
 // POV-Ray renders the export as rayproof renders the scene (tree attenuation off, the one
 // feature it lacks): a mean absolute difference of at most 3/255 per channel at 96×72,
@@ -162,7 +162,7 @@ TEST_P(PovParity, RendersAsRayproof) {
 #endif
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, PovParity, ::testing::Values("default", "cube", "notes"));
+INSTANTIATE_TEST_SUITE_P(Scenes, PovParity, ::testing::Values("default", "cube", "notes", "polyhedra"));
 
 }  // namespace
 }  // namespace rayproof::render::testing

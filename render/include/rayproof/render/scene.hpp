@@ -4,6 +4,7 @@
 #pragma once
 
 #include <rayproof/rayproof.hpp>
+#include <rayproof/render/polyhedron.hpp>
 
 #include <Eigen/Core>
 
@@ -83,7 +84,9 @@ struct Material {
     bool transparent() const { return transparency > 0; }
 };
 
-using Shape = std::variant<Sphere<double>, Aabb<double>, Obb<double>, Plane<double>>;
+// A Polyhedron owns its planes (polyhedron.hpp); the tracer queries the kernel's
+// ConvexPolyhedron view of them, so a Scene copies and moves like plain data.
+using Shape = std::variant<Sphere<double>, Aabb<double>, Obb<double>, Plane<double>, Polyhedron>;
 
 struct Object {
     std::string name;  // "" when the file gave none

@@ -22,11 +22,12 @@
 // Shadow rays are traced only towards lights, reflected rays only for reflective
 // materials, refracted rays only for transparent ones.
 //
-// Inside and outside: a solid (sphere, box) whose interval starts at the ray's t_min
-// (boxes: face == -1) contains the ray's origin; the ray then meets the surface where it
-// leaves, at t_exit (boxes: the exit face is the entry face of rayproof::reversed(ray)),
-// and refraction goes from the solid's index to 1. Planes are surfaces, not solids: a
-// transparent plane is a thin sheet that lets rays through undeviated; a ray lying in a
+// Inside and outside: a solid (sphere, box, polyhedron) whose interval starts at the
+// ray's t_min (boxes, polyhedra: face == -1) contains the ray's origin; the ray then meets
+// the surface where it leaves, at t_exit (boxes, polyhedra: the exit face is the entry
+// face of rayproof::reversed(ray)), and refraction goes from the solid's index to 1.
+// Planes are surfaces, not solids: a transparent plane is a thin sheet that lets rays
+// through undeviated; a ray lying in a
 // plane does not see it.
 //
 // Secondary-ray origins: see SurfacePoint::offset below (no fixed epsilon).
@@ -54,6 +55,11 @@ enum class OffsetPolicy { error_bound, naive };
 struct TraceOptions {
     OffsetPolicy offset = OffsetPolicy::error_bound;
     double naive_t_min = 1e-4;
+    // The bounding-sphere pre-filter of convex polyhedra (polyhedron.hpp), certified mode
+    // only (where it pays, see tracer.cpp): a ray whose certified verdict on the ball is a
+    // miss is not asked against the planes. Off: every plane is asked. The image is the
+    // same either way (the ball holds the solid exactly); switchable to measure it.
+    bool polyhedron_prefilter = true;
 };
 
 struct Stats {
@@ -114,7 +120,8 @@ struct SurfacePoint {
 //             to lo or hi exactly, the others clamped into the face;
 //     Sphere: p = c + v·(r/|v|), v = o + t·d - c (pbrt-v4 6.8.5 reprojection), within
 //             gamma(7)·(|c_i| + |v'_i|) of a point on the sphere per coordinate;
-//     Plane, Obb: a posteriori, from the residual g = n·p - offset (or (p-c)·a - h).
+//     Plane, Obb: a posteriori, from the residual g = n·p - offset (or (p-c)·a - h);
+//     Polyhedron: as the Plane of the face met (entry face, or exit face from inside).
 //   K keeps the new origin out of the band where the kernel itself, queried again from
 //   there, could still report the surface just left. From the kernel's stated error
 //   models: fast evaluates n operations with relative error γ(n); conservative moves
@@ -124,6 +131,8 @@ struct SurfacePoint {
 //           origin is one ulp past the face);
 //     Obb:  γ(12)·Σ_j|(p - c)_j·a_j| / |a| (o'_i: a difference, a product, two sums);
 //     Plane: γ(12)·(|offset| + Σ|n_i p_i|) / |n| (the numerator: a product, three sums);
+//     Polyhedron: the Plane's, for the face met (each plane's crossing is evaluated as a
+//           plane's; conservative's enclosure γ(5)·S is inside γ(12));
 //     Sphere: γ(24)·r (the fast mode's tangency band γ(8)·|Δ|, |Δ| ≈ r there).
 // The sum is then scaled by (1 + γ(4)) to cover the rounding of these very formulas.
 // The γ bounds hold only while no result underflows: a face at 0 pushed one ulp to
