@@ -8,7 +8,8 @@
 //                   faithful rounding of the exact value
 //   conservative    never false_miss; a hit's [t_enter, t_exit] encloses the exact interval
 //   certified and   a hit has t_min <= t_enter <= t_exit <= t_max; face in [-1, 5] for
-//   conservative    boxes, -1 for planes and spheres
+//   conservative    boxes, in [-1, n - 1] for a polyhedron of n planes, -1 for planes and
+//                   spheres
 //   batch           the batch form answers the ray and its reverse exactly as the scalar
 //                   form does, in every mode (bit for bit)
 //   verdict         verdict(), scalar and batch, equals the full answer's verdict in
@@ -42,6 +43,7 @@ template <class T, class Shape> const char* shape_label() {
     if constexpr (std::is_same_v<Shape, Aabb<T>>) return "Aabb";
     else if constexpr (std::is_same_v<Shape, Obb<T>>) return "Obb";
     else if constexpr (std::is_same_v<Shape, Plane<T>>) return "Plane";
+    else if constexpr (std::is_same_v<Shape, ConvexPolyhedron<T>>) return "ConvexPolyhedron";
     else return "Sphere";
 }
 template <class T, class Shape> std::string describe(const char* what, const char* mode) {
@@ -153,6 +155,22 @@ template <template <class> class Shape> int run_shape_target(const std::uint8_t*
         } else {
             const auto in = decode<float, Shape<float>>(data, size);
             check_case(in.ray, in.shape);
+        }
+    } catch (const Filtered&) {
+    }
+    return 0;
+}
+
+// The body of the polyhedron target (its own byte format, PolyDecoder): the header picks
+// float or double, the planes are owned by the decoded input.
+inline int run_polyhedron_target(const std::uint8_t* data, std::size_t size) {
+    try {
+        if (is_double(data, size)) {
+            const auto in = decode_polyhedron<double>(data, size);
+            check_case(in.ray, in.shape());
+        } else {
+            const auto in = decode_polyhedron<float>(data, size);
+            check_case(in.ray, in.shape());
         }
     } catch (const Filtered&) {
     }

@@ -44,6 +44,8 @@
 //
 // An empty input decodes to all zeros (an invalid, zero-direction ray). The format is
 // fixed: the committed corpora and regressions depend on it; a change must re-encode them.
+// Convex polyhedra (a variable number of planes) have a format of their own, built of the
+// same field classes: see PolyDecoder at the end of this file.
 #pragma once
 
 #include <fuzzer/FuzzedDataProvider.h>  // clang's; copied into the build tree for g++ (targets.cmake)
@@ -174,14 +176,79 @@ inline bool is_double(const std::uint8_t* data, std::size_t size) {
     return p.ConsumeIntegral<std::uint8_t>() & kDoubleBit;
 }
 
-template <class T, class Shape> class Decoder {
+// The number classes every decoder shares: one selector byte and what its class needs
+// (the table above), read from the provider; copies and derived values read the fields
+// decoded so far (done_).
+// Fields is an indexable sequence of T* (std::array or std::vector), which gives T.
+class FieldReader {
+protected:
+    FieldReader(const std::uint8_t* data, std::size_t size) : p_(data, size) {}
+
+    // One field; the fields [0, avail) may be copied (those decoded so far: done_).
+    template <class Fields, class T = std::remove_pointer_t<typename Fields::value_type>>
+    T value(const Fields& f, int avail) {
+        const unsigned s = p_.ConsumeIntegral<std::uint8_t>();
+        const unsigned n = s >> 3;
+        switch (s & 7u) {
+            case small_int: return T((n & 1u) ? -int(n + 1) / 2 : int(n / 2));
+            case int16: return T(std::int16_t(p_.ConsumeIntegral<std::uint16_t>()));
+            case special: return special_values<T>()[n];
+            case copy: {
+                const T src = pick(f, avail);
+                const T v = nudged(src, kCopySteps[n >> 1]);
+                return (n & 1u) ? -v : v;
+            }
+            case raw: return from_bits<T>(p_.ConsumeIntegral<Bits<T>>());
+            case dyadic: {
+                const T m = T(std::int16_t(p_.ConsumeIntegral<std::uint16_t>()));
+                const int e = kDyadicMinExp<T> + int(p_.ConsumeIntegral<std::uint16_t>() %
+                                                     unsigned(kDyadicMaxExp<T> - kDyadicMinExp<T> + 1));
+                return scale(m, e);
+            }
+            case derived: {
+                const T a = pick(f, avail), b = pick(f, avail);
+                switch (n & 7u) {
+                    case 0: return a + b;
+                    case 1: return a - b;
+                    case 2: return a * b;
+                    case 3: return a / b;  // IEEE: ±inf or NaN for b == 0 (an invalid input)
+                    case 4: return -a;
+                    case 5: return (a + b) / 2;
+                    case 6: return std::nextafter(a, b);
+                    default: return std::fabs(a);
+                }
+            }
+            default: {  // fraction
+                const T a = T(std::int8_t(p_.ConsumeIntegral<std::uint8_t>()));
+                const int b = std::int8_t(p_.ConsumeIntegral<std::uint8_t>());
+                return scale(a / T(b == 0 ? 1 : b), int(n) - 16);
+            }
+        }
+    }
+
+    // A previous field (0 when there is none).
+    template <class Fields, class T = std::remove_pointer_t<typename Fields::value_type>>
+    T pick(const Fields& f, int avail) {
+        const unsigned i = p_.ConsumeIntegral<std::uint8_t>();
+        const int limit = avail < done_ ? avail : done_;
+        return limit > 0 ? *f[i % unsigned(limit)] : T(0);
+    }
+
+    // x·2^e in steps that each stay exact until the final rounding (std::ldexp).
+    template <class T> static T scale(T x, int e) { return std::ldexp(x, e); }
+
+    FuzzedDataProvider p_;
+    int done_ = 0;  // fields decoded so far (copies read only those during the first pass)
+};
+
+template <class T, class Shape> class Decoder : FieldReader {
 public:
     static constexpr int kFields = kShapeFields<Shape> + kRayFields;
     static constexpr int kTMinField = kFields - 2;
     static constexpr int kTMaxField = kFields - 1;
     static constexpr int kAxesFirst = 3, kAxesLast = 11;  // Obb: the 9 axes fields
 
-    Decoder(const std::uint8_t* data, std::size_t size) : p_(data, size) {}
+    Decoder(const std::uint8_t* data, std::size_t size) : FieldReader(data, size) {}
 
     Input<T, Shape> decode() {
         Input<T, Shape> in{};
@@ -224,57 +291,6 @@ public:
 
 private:
     using Fields = std::array<T*, kFields>;
-
-    // One field; the fields [0, avail) may be copied.
-    T value(const Fields& f, int avail) {
-        const unsigned s = p_.ConsumeIntegral<std::uint8_t>();
-        const unsigned n = s >> 3;
-        switch (s & 7u) {
-            case small_int: return T((n & 1u) ? -int(n + 1) / 2 : int(n / 2));
-            case int16: return T(std::int16_t(p_.ConsumeIntegral<std::uint16_t>()));
-            case special: return special_values<T>()[n];
-            case copy: {
-                const T src = pick(f, avail);
-                const T v = nudged(src, kCopySteps[n >> 1]);
-                return (n & 1u) ? -v : v;
-            }
-            case raw: return from_bits<T>(p_.ConsumeIntegral<Bits<T>>());
-            case dyadic: {
-                const T m = T(std::int16_t(p_.ConsumeIntegral<std::uint16_t>()));
-                const int e = kDyadicMinExp<T> + int(p_.ConsumeIntegral<std::uint16_t>() %
-                                                     unsigned(kDyadicMaxExp<T> - kDyadicMinExp<T> + 1));
-                return scale(m, e);
-            }
-            case derived: {
-                const T a = pick(f, avail), b = pick(f, avail);
-                switch (n & 7u) {
-                    case 0: return a + b;
-                    case 1: return a - b;
-                    case 2: return a * b;
-                    case 3: return a / b;  // IEEE: ±inf or NaN for b == 0 (an invalid input)
-                    case 4: return -a;
-                    case 5: return (a + b) / 2;
-                    case 6: return std::nextafter(a, b);
-                    default: return std::fabs(a);
-                }
-            }
-            default: {  // fraction
-                const T a = T(std::int8_t(p_.ConsumeIntegral<std::uint8_t>()));
-                const int b = std::int8_t(p_.ConsumeIntegral<std::uint8_t>());
-                return scale(a / T(b == 0 ? 1 : b), int(n) - 16);
-            }
-        }
-    }
-
-    // A previous field (0 when there is none).
-    T pick(const Fields& f, int avail) {
-        const unsigned i = p_.ConsumeIntegral<std::uint8_t>();
-        const int limit = avail < done_ ? avail : done_;
-        return limit > 0 ? *f[i % unsigned(limit)] : T(0);
-    }
-
-    // x·2^e in steps that each stay exact until the final rounding (std::ldexp).
-    static T scale(T x, int e) { return std::ldexp(x, e); }
 
     // Obb axes built exactly: an integer rotation or a scaled signed permutation.
     void constructed_axes(const Fields& f, unsigned style) {
@@ -429,8 +445,6 @@ private:
         }
     }
 
-    FuzzedDataProvider p_;
-    int done_ = 0;  // fields decoded so far (copies read only those during the first pass)
 };
 
 template <class T, class Shape> Input<T, Shape> decode(const std::uint8_t* data, std::size_t size) {
@@ -481,6 +495,90 @@ template <class T, class Shape> std::vector<std::uint8_t> encode(const Ray<T>& r
     e.put(std::uint8_t((std::is_same_v<T, double> ? kDoubleBit : 0u) | ((default_range ? 0u : 3u) << kTRangeShift)));
     const int n = int(f.size()) - (default_range ? 2 : 0);
     for (int k = 0; k < n; ++k) encode_value(e, *f[k]);
+    return e.bytes();
+}
+
+// ---------------------------------------------------------------------------------------
+// Convex polyhedra (ray_polyhedron_fuzz): a variable number of planes, owned here.
+//
+//   header byte   bit 0 scalar, bits 1-2 t range, as for the other shapes (the other bits
+//                 are unused)
+//   plane count   one byte b: b mod 65 planes (0 to 64; none is all of space)
+//   fields        per plane its normal (x, y, z) then its offset, plane by plane; then
+//                 origin, direction, t_min, t_max (those the t range decodes); each one
+//                 number of the classes above (copies read any earlier field: a plane
+//                 equal to another, a normal copied and negated for a flat slab)
+//   patches       as above, over all the fields
+
+inline constexpr int kMaxPlanes = 64;
+
+template <class T> struct PolyInput {
+    Ray<T> ray;
+    std::vector<Plane<T>> planes;
+    ConvexPolyhedron<T> shape() const { return ConvexPolyhedron<T>{std::span<const Plane<T>>(planes)}; }
+};
+
+// The fields of a polyhedron input, in decoding order.
+template <class T> std::vector<T*> poly_fields(PolyInput<T>& in) {
+    std::vector<T*> f;
+    f.reserve(4 * in.planes.size() + kRayFields);
+    for (Plane<T>& q : in.planes) {
+        for (int i = 0; i < 3; ++i) f.push_back(&q.normal[i]);
+        f.push_back(&q.offset);
+    }
+    for (int i = 0; i < 3; ++i) f.push_back(&in.ray.origin[i]);
+    for (int i = 0; i < 3; ++i) f.push_back(&in.ray.direction[i]);
+    f.push_back(&in.ray.t_min);
+    f.push_back(&in.ray.t_max);
+    return f;
+}
+
+template <class T> class PolyDecoder : FieldReader {
+public:
+    PolyDecoder(const std::uint8_t* data, std::size_t size) : FieldReader(data, size) {}
+
+    PolyInput<T> decode() {
+        PolyInput<T> in{};
+        const unsigned header = p_.ConsumeIntegral<std::uint8_t>();
+        const unsigned t_style = (header >> kTRangeShift) & 3u;
+        in.planes.resize(p_.ConsumeIntegral<std::uint8_t>() % unsigned(kMaxPlanes + 1),
+                         Plane<T>{Vec3<T>(0, 0, 0), T(0)});
+        in.ray.origin = in.ray.direction = Vec3<T>(0, 0, 0);
+        const std::vector<T*> f = poly_fields(in);
+        const int n = int(f.size()), t_min_field = n - 2, t_max_field = n - 1;
+        constexpr T inf = std::numeric_limits<T>::infinity();
+        for (int k = 0; k < n; ++k) {
+            if (k == t_min_field && t_style <= 1)
+                *f[k] = t_style == 0 ? T(0) : -inf;
+            else if (k == t_max_field && t_style <= 2)
+                *f[k] = inf;
+            else
+                *f[k] = value(f, k);
+            done_ = k + 1;
+        }
+        for (int i = 0; i < kMaxPatches && p_.remaining_bytes() > 0; ++i) {
+            const int dst = int(p_.ConsumeIntegral<std::uint8_t>() % unsigned(n));
+            *f[dst] = value(f, n);
+        }
+        return in;
+    }
+};
+
+template <class T> PolyInput<T> decode_polyhedron(const std::uint8_t* data, std::size_t size) {
+    return PolyDecoder<T>(data, size).decode();
+}
+
+// The bytes of a polyhedron case (at most kMaxPlanes planes): t range [decoded, decoded]
+// (or [0, +inf) when it is that range), every field in its most compact class, no patches.
+template <class T> std::vector<std::uint8_t> encode_polyhedron(const Ray<T>& ray, std::span<const Plane<T>> planes) {
+    PolyInput<T> in{ray, {planes.begin(), planes.end()}};
+    const std::vector<T*> f = poly_fields(in);
+    const bool default_range = to_bits(ray.t_min) == to_bits(T(0)) && ray.t_max == std::numeric_limits<T>::infinity();
+    Encoder e;
+    e.put(std::uint8_t((std::is_same_v<T, double> ? kDoubleBit : 0u) | ((default_range ? 0u : 3u) << kTRangeShift)));
+    e.put(std::uint8_t(planes.size()));
+    const std::size_t n = f.size() - (default_range ? 2 : 0);
+    for (std::size_t k = 0; k < n; ++k) encode_value(e, *f[k]);
     return e.bytes();
 }
 

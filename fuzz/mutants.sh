@@ -6,7 +6,7 @@
 #
 #   mutant: <name>
 #   target: <fuzz target of fuzz/targets.txt>
-#   shapes: <aabb|obb|plane|sphere ...>
+#   shapes: <aabb|obb|plane|sphere|polyhedron ...>
 #   breaks: <one line>
 #   (blank line, then the diff, as `git diff` writes it)
 #
@@ -79,7 +79,7 @@ if [ $check -eq 1 ]; then
     esac
     [ -n "$shapes" ] || { echo "mutant $name: no shapes" >&2; bad=1; }
     for s in $shapes; do
-      case "$s" in aabb|obb|plane|sphere) ;; *) echo "mutant $name: unknown shape '$s'" >&2; bad=1 ;; esac
+      case "$s" in aabb|obb|plane|sphere|polyhedron) ;; *) echo "mutant $name: unknown shape '$s'" >&2; bad=1 ;; esac
     done
     if ! (cd "$ROOT" && git apply --check "$p") 2>"${TMPDIR:-/tmp}/mutants-check.$$"; then
       echo "mutant $name: the patch does not apply: $(head -3 "${TMPDIR:-/tmp}/mutants-check.$$")" >&2; bad=1

@@ -63,6 +63,47 @@ template <class T, class Shape> int run(const std::string& target, const fs::pat
     return failures;
 }
 
+// The polyhedron target's cases: its own byte format (PolyDecoder), the planes compared
+// bit for bit.
+template <class T> bool poly_round_trips(const gen::PolyCase<T>& c, const std::vector<std::uint8_t>& bytes) {
+    fuzz::PolyInput<T> a{c.ray, c.shape.planes};
+    auto in = fuzz::decode_polyhedron<T>(bytes.data(), bytes.size());
+    if (in.planes.size() != a.planes.size()) return false;
+    const auto fa = fuzz::poly_fields(a);
+    const auto fb = fuzz::poly_fields(in);
+    for (std::size_t i = 0; i < fa.size(); ++i)
+        if (fuzz::to_bits(*fa[i]) != fuzz::to_bits(*fb[i])) return false;
+    return fuzz::is_double(bytes.data(), bytes.size()) == std::is_same_v<T, double>;
+}
+
+template <class T> int run_polyhedron(const std::string& target, const fs::path* dir, int n) {
+    int failures = 0;
+    for (const auto& g : gen::polyhedron_generators<T>()) {
+        for (int k = 1; k <= n; ++k) {
+            gen::Rng rng{std::uint64_t(k)};
+            const auto c = g.make(rng);
+            const auto bytes = fuzz::encode_polyhedron(c.ray, std::span<const Plane<T>>(c.shape.planes));
+            if (!poly_round_trips(c, bytes)) {
+                std::cerr << target << ": encode/decode round trip fails on " << c << '\n';
+                ++failures;
+                continue;
+            }
+            if (dir) {
+                const fs::path d = *dir / target;
+                fs::create_directories(d);
+                const fs::path file = d / (std::string(gen::scalar_name<T>()) + "-" + std::string(g.name) + "-" + std::to_string(k));
+                std::ofstream out(file, std::ios::binary);
+                out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+                if (!out) {
+                    std::cerr << "cannot write " << file << '\n';
+                    ++failures;
+                }
+            }
+        }
+    }
+    return failures;
+}
+
 template <template <class> class Shape> int both(const std::string& target, const fs::path* dir, int n) {
     return run<float, Shape<float>>(target, dir, n) + run<double, Shape<double>>(target, dir, n);
 }
@@ -83,7 +124,8 @@ int main(int argc, char** argv) {
     const fs::path d = dir, *out = write.parsed() ? &d : nullptr;
     if (n == 0) n = out ? 6 : 200;
     const int f = both<Aabb>("ray_aabb_fuzz", out, n) + both<Obb>("ray_obb_fuzz", out, n) +
-                  both<Plane>("ray_plane_fuzz", out, n) + both<Sphere>("ray_sphere_fuzz", out, n);
+                  both<Plane>("ray_plane_fuzz", out, n) + both<Sphere>("ray_sphere_fuzz", out, n) +
+                  run_polyhedron<float>("ray_polyhedron_fuzz", out, n) + run_polyhedron<double>("ray_polyhedron_fuzz", out, n);
     if (out)
         std::cout << "seed corpora written to " << d.string() << (f ? " with failures" : "") << '\n';
     else

@@ -12,6 +12,8 @@
 #include <rayproof/oracle/crosscheck.hpp>
 
 #include <CGAL/Aff_transformation_3.h>
+#include <CGAL/QP_functions.h>
+#include <CGAL/QP_models.h>
 #include <CGAL/Root_of_traits.h>
 #include <CGAL/Simple_cartesian.h>
 #include <CGAL/intersections.h>
@@ -368,6 +370,70 @@ template <class T> Exact<T> answer(const Ray<T>& ray, const Sphere<T>& sphere) {
     return e;
 }
 
+namespace {
+
+// An extreme t of the polyhedron's points on the ray's range, by linear programming over
+// the point and its parameter: variables (p_0, p_1, p_2, t), free but for t_min <= t <=
+// t_max where those are finite; p - t·d = o; n_k·p <= offset_k for every plane; the
+// objective t (`sense` +1: its minimum) or -t (-1: its maximum). CGAL's exact simplex
+// (QP_solver) over Gmpq decides it: nullopt when infeasible (a miss), ±inf when
+// unbounded, else the optimum.
+template <class T> std::optional<ExactValue> lp_extreme(const Ray<T>& ray, const ConvexPolyhedron<T>& poly, int sense) {
+    CGAL::Quadratic_program<Q> lp(CGAL::SMALLER, false, Q{0}, false, Q{0});
+    for (int i = 0; i < 3; ++i) {
+        lp.set_a(i, i, Q{1});
+        lp.set_a(3, i, Q{-to_q(ray.direction[i])});
+        lp.set_b(i, to_q(ray.origin[i]));
+        lp.set_r(i, CGAL::EQUAL);
+    }
+    for (std::size_t k = 0; k < poly.planes.size(); ++k) {
+        const int row = 3 + int(k);
+        for (int i = 0; i < 3; ++i) lp.set_a(i, row, to_q(poly.planes[k].normal[i]));
+        lp.set_b(row, to_q(poly.planes[k].offset));
+        lp.set_r(row, CGAL::SMALLER);
+    }
+    if (std::isfinite(ray.t_min)) lp.set_l(3, true, to_q(ray.t_min));
+    if (std::isfinite(ray.t_max)) lp.set_u(3, true, to_q(ray.t_max));
+    lp.set_c(3, Q{sense});
+    const CGAL::Quadratic_program_solution<Q> s = CGAL::solve_linear_program(lp, Q{});
+    if (s.is_infeasible()) return std::nullopt;
+    if (s.is_unbounded()) return internal::make_infinite(-sense);
+    const auto v = s.objective_value();  // a CGAL::Quotient<Q>
+    const Q opt = v.numerator() / v.denominator();
+    return internal::make_rational(sense > 0 ? opt : Q{-opt});
+}
+
+}  // namespace
+
+template <class T> Exact<T> answer(const Ray<T>& ray, const ConvexPolyhedron<T>& poly) {
+    if (!oracle::valid(ray) || !oracle::valid(poly)) return invalid_answer<T>();
+    Exact<T> e;
+    const std::optional<ExactValue> lo = lp_extreme(ray, poly, 1);
+    if (!lo) return e;
+    const std::optional<ExactValue> hi = lp_extreme(ray, poly, -1);
+    if (!hi) return e;  // (never: the two programs have the same feasible set)
+    e.verdict = Verdict::hit;
+    e.t_enter = *lo;
+    e.t_exit = *hi;
+    // The face: -1 when t_enter is t_min (or -inf); otherwise the first plane, in index
+    // order, that holds the entry point and whose outward normal the direction points
+    // against (negative scalar product).
+    if (lo->kind() == ExactValue::Kind::rational && !(std::isfinite(ray.t_min) && lo->impl()->p == to_q(ray.t_min))) {
+        const P3 entry = point(ray.origin) + vec(ray.direction) * lo->impl()->p;
+        const V3 d = vec(ray.direction);
+        e.face = int(poly.planes.size());  // no plane qualifies: never, for a consistent answer
+        for (std::size_t k = 0; k < poly.planes.size(); ++k) {
+            const Plane<T>& pl = poly.planes[k];
+            const K::Plane_3 plane{to_q(pl.normal[0]), to_q(pl.normal[1]), to_q(pl.normal[2]), Q{-to_q(pl.offset)}};
+            if (plane.has_on(entry) && CGAL::sign(plane.orthogonal_vector() * d) == CGAL::NEGATIVE) {
+                e.face = int(k);
+                break;
+            }
+        }
+    }
+    return e;
+}
+
 #define RAYPROOF_CROSSCHECK_INSTANTIATE(T)                                                   \
     template std::optional<Verdict> verdict<T>(const Ray<T>&, const Aabb<T>&);               \
     template std::optional<Verdict> verdict<T>(const Ray<T>&, const Obb<T>&);                \
@@ -378,7 +444,8 @@ template <class T> Exact<T> answer(const Ray<T>& ray, const Sphere<T>& sphere) {
     template Exact<T> answer<T>(const Ray<T>&, const Aabb<T>&);                              \
     template Exact<T> answer<T>(const Ray<T>&, const Obb<T>&);                               \
     template Exact<T> answer<T>(const Ray<T>&, const Plane<T>&);                             \
-    template Exact<T> answer<T>(const Ray<T>&, const Sphere<T>&);
+    template Exact<T> answer<T>(const Ray<T>&, const Sphere<T>&);                            \
+    template Exact<T> answer<T>(const Ray<T>&, const ConvexPolyhedron<T>&);
 RAYPROOF_CROSSCHECK_INSTANTIATE(float)
 RAYPROOF_CROSSCHECK_INSTANTIATE(double)
 #undef RAYPROOF_CROSSCHECK_INSTANTIATE

@@ -1,4 +1,4 @@
-// oracle.cpp — the exact answers (ray vs Aabb, Obb, Plane, Sphere), exact values and the
+// oracle.cpp — the exact answers (ray vs Aabb, Obb, Plane, Sphere, ConvexPolyhedron), exact values and the
 // judge. All arithmetic on inputs is exact rational arithmetic (CGAL::Gmpq); MPFR is used
 // only to guess a float near an exact value, and every guess is then settled by exact
 // comparisons.
@@ -8,7 +8,8 @@
 // printing, and it instantiates exact() for float and double. Each shape's exact answer,
 // with how it is decided (the contract's definitions, literally), is in its own file
 // found by the shape's name stem: ray_aabb_oracle.hpp, ray_obb_oracle.hpp,
-// ray_plane_oracle.hpp, ray_sphere_oracle.hpp (their shared parts: exact_answer.hpp).
+// ray_plane_oracle.hpp, ray_sphere_oracle.hpp, ray_polyhedron_oracle.hpp (their shared
+// parts: exact_answer.hpp).
 #include "exact_number.hpp"
 
 #include <rayproof/io.hpp>
@@ -272,6 +273,11 @@ template <class T> bool valid(const Aabb<T>& b) {
 }
 template <class T> bool valid(const Plane<T>& p) { return finite3(p.normal) && std::isfinite(p.offset) && nonzero3(p.normal); }
 template <class T> bool valid(const Sphere<T>& s) { return finite3(s.center) && std::isfinite(s.radius) && s.radius >= 0; }
+template <class T> bool valid(const ConvexPolyhedron<T>& p) {
+    for (const Plane<T>& plane : p.planes)
+        if (!valid(plane)) return false;
+    return true;  // no planes: all of space
+}
 template <class T> bool valid(const Obb<T>& b) {
     if (!finite3(b.center) || !finite3(b.half_extent)) return false;
     for (int i = 0; i < 9; ++i)
@@ -297,6 +303,7 @@ template <class T> bool valid(const Obb<T>& b) {
 #include "ray_aabb_oracle.hpp"
 #include "ray_obb_oracle.hpp"
 #include "ray_plane_oracle.hpp"
+#include "ray_polyhedron_oracle.hpp"
 #include "ray_sphere_oracle.hpp"
 
 namespace rayproof::oracle {
@@ -307,10 +314,12 @@ namespace rayproof::oracle {
     template bool valid<T>(const Obb<T>&);                                  \
     template bool valid<T>(const Plane<T>&);                                \
     template bool valid<T>(const Sphere<T>&);                               \
+    template bool valid<T>(const ConvexPolyhedron<T>&);                     \
     template Exact<T> exact<T>(const Ray<T>&, const Aabb<T>&);              \
     template Exact<T> exact<T>(const Ray<T>&, const Obb<T>&);               \
     template Exact<T> exact<T>(const Ray<T>&, const Plane<T>&);             \
-    template Exact<T> exact<T>(const Ray<T>&, const Sphere<T>&);
+    template Exact<T> exact<T>(const Ray<T>&, const Sphere<T>&);           \
+    template Exact<T> exact<T>(const Ray<T>&, const ConvexPolyhedron<T>&);
 RAYPROOF_ORACLE_INSTANTIATE(float)
 RAYPROOF_ORACLE_INSTANTIATE(double)
 #undef RAYPROOF_ORACLE_INSTANTIATE

@@ -11,7 +11,8 @@
 // and the form of an answer, which needs no oracle:
 //   every mode     the verdict is miss, hit or invalid; a hit carries no NaN t
 //   conservative,  a hit has t_min <= t_enter <= t_exit <= t_max; its face is in [-1, 5]
-//   certified      for boxes, -1 for planes and spheres
+//   certified      for boxes, in [-1, n - 1] for a polyhedron of n planes, -1 for planes
+//                  and spheres
 //
 // check_contract() reports every breach of an answer at once; each caller decides what it
 // reports: the audit counts broken promises, the fuzz targets abort on the first breach,
@@ -48,7 +49,7 @@ enum class Breach : unsigned {
     false_miss = 1u << 5,              // conservative: the exact answer hits, the answer misses
     not_enclosing = 1u << 6,           // conservative: [t_enter, t_exit] misses part of the exact one
     interval_out_of_range = 1u << 7,   // conservative, certified: not t_min <= t_enter <= t_exit <= t_max
-    face_out_of_range = 1u << 8,       // conservative, certified, boxes: face outside [-1, 5]
+    face_out_of_range = 1u << 8,       // conservative, certified, boxes: face outside [-1, 5]; polyhedra: [-1, n - 1]
     face_not_none = 1u << 9,           // conservative, certified, planes and spheres: face != -1
 };
 inline constexpr unsigned kBreachCount = 10;
@@ -109,9 +110,12 @@ template <class T, class Shape> constexpr bool is_box = std::is_same_v<Shape, Aa
 }
 
 // Checks `hit`, the answer of mode `mode` for (ray, shape), against `exact`, the oracle's
-// answer for the same input.
+// answer for the same input. A hit may name the faces -1 to `face_last` (boxes 5, a
+// polyhedron of n planes n - 1); `faces` false: the shape names none, the face must be -1
+// (planes, spheres).
 template <class T>
-ContractCheck check_contract(ModeId mode, bool box, const Ray<T>& ray, const Hit<T>& hit, const Exact<T>& exact) {
+ContractCheck check_contract(ModeId mode, bool faces, int face_last, const Ray<T>& ray, const Hit<T>& hit,
+                             const Exact<T>& exact) {
     ContractCheck c;
     c.mode = mode;
     c.judgement = judge(hit, exact, /*compare_face=*/true);
@@ -134,8 +138,8 @@ ContractCheck check_contract(ModeId mode, bool box, const Ray<T>& ray, const Hit
     if (hit.verdict == Verdict::hit) {
         if (!(ray.t_min <= hit.t_enter && hit.t_enter <= hit.t_exit && hit.t_exit <= ray.t_max))
             flag(Breach::interval_out_of_range);
-        if (box) {
-            if (hit.face < -1 || hit.face > 5) flag(Breach::face_out_of_range);
+        if (faces) {
+            if (hit.face < -1 || hit.face > face_last) flag(Breach::face_out_of_range);
         } else if (hit.face != -1) {
             flag(Breach::face_not_none);
         }
@@ -143,9 +147,22 @@ ContractCheck check_contract(ModeId mode, bool box, const Ray<T>& ray, const Hit
     return c;
 }
 
+// The same for a box (`box`: faces -1 to 5) or a plane or sphere (face -1).
+template <class T>
+ContractCheck check_contract(ModeId mode, bool box, const Ray<T>& ray, const Hit<T>& hit, const Exact<T>& exact) {
+    return check_contract(mode, box, 5, ray, hit, exact);
+}
+
 template <class T, class Shape, class Mode>
 ContractCheck check_contract(const Ray<T>& ray, const Shape&, const Hit<T>& hit, const Exact<T>& exact, Mode mode) {
     return check_contract(mode_id(mode), contract_detail::is_box<T, Shape>, ray, hit, exact);
+}
+
+// A polyhedron names its planes: faces -1 to planes.size() - 1 (no planes: -1 only).
+template <class T, class Mode>
+ContractCheck check_contract(const Ray<T>& ray, const ConvexPolyhedron<T>& poly, const Hit<T>& hit,
+                             const Exact<T>& exact, Mode mode) {
+    return check_contract(mode_id(mode), true, int(poly.planes.size()) - 1, ray, hit, exact);
 }
 
 // Counts of judgements: the rows of the audit and of the trade report's accuracy half.

@@ -22,6 +22,13 @@
 //           as CGAL Root_of_2 numbers (make_root_of_2); t_enter is t_min when the point
 //           at t_min lies in the ball (bounded_side), else the smaller root, and t_exit
 //           likewise.
+//   ConvexPolyhedron  two linear programs solved exactly by CGAL's QP_solver over Gmpq,
+//           in the point p and its parameter t (p - t·d = o, n_k·p <= offset_k, t_min <=
+//           t <= t_max where finite): infeasible is a miss, t_enter the minimum of t,
+//           t_exit the maximum (±inf when unbounded). Face: -1 when t_enter is t_min or
+//           -inf; otherwise the first Plane_3, in index order, that holds the entry point
+//           and whose normal the direction points against (negative scalar product); the
+//           plane count when none qualifies (never, for a consistent answer).
 //   Face (boxes): -1 when the point at t_min lies in the box (bounded_side); otherwise
 //           the first of the six world-space Plane_3s, in face order, that holds the
 //           entry point and whose inward normal the direction points along (positive
@@ -61,6 +68,7 @@ template <class T> Exact<T> answer(const Ray<T>& ray, const Aabb<T>& box);
 template <class T> Exact<T> answer(const Ray<T>& ray, const Obb<T>& box);
 template <class T> Exact<T> answer(const Ray<T>& ray, const Plane<T>& plane);
 template <class T> Exact<T> answer(const Ray<T>& ray, const Sphere<T>& sphere);
+template <class T> Exact<T> answer(const Ray<T>& ray, const ConvexPolyhedron<T>& poly);
 
 // Where f lies relative to v (exact; -0 and +0 are both 0; unordered for NaN or no value).
 Order compare(float f, const ExactValue& v);

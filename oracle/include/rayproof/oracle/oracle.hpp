@@ -6,11 +6,12 @@
 // is converted exactly; NaN and inf are screened first (the validity rules of the
 // contract are re-implemented here, independently of the kernel).
 //
-// The exact t values are rationals (Aabb, Obb, Plane, and t_min/t_max when they clip),
-// ±inf (a ray lying in a plane on an unbounded range), or roots of a quadratic with
-// rational coefficients (Sphere, irrational in general). They are never converted to a
-// double: an ExactValue answers where a given float lies relative to it (below, equal,
-// above) and which floats enclose it (its faithful roundings).
+// The exact t values are rationals (Aabb, Obb, Plane, ConvexPolyhedron, and t_min/t_max
+// when they clip), ±inf (a ray lying in a plane or in a polyhedron on an unbounded
+// range), or roots of a quadratic with rational coefficients (Sphere, irrational in
+// general). They are never converted to a double: an ExactValue answers where a given
+// float lies relative to it (below, equal, above) and which floats enclose it (its
+// faithful roundings).
 //
 // judge(hit, exact) classifies a floating-point answer against the exact one.
 //
@@ -75,7 +76,8 @@ private:
 template <class T> struct Exact {
     Verdict verdict = Verdict::miss;
     ExactValue t_enter, t_exit;  // Kind::none unless verdict == hit
-    int face = -1;               // boxes: 2·axis + side of the entry plane, -1 when t_min is in the box
+    int face = -1;               // boxes: 2·axis + side of the entry plane, -1 when t_min is in the box;
+                                 // polyhedra: the index of the entry plane (lowest on ties), -1 likewise
 
     Order enter_vs(T f) const { return t_enter.compare(f); }
     Order exit_vs(T f) const { return t_exit.compare(f); }
@@ -89,12 +91,14 @@ template <class T> bool valid(const Aabb<T>& b);
 template <class T> bool valid(const Obb<T>& b);
 template <class T> bool valid(const Plane<T>& p);
 template <class T> bool valid(const Sphere<T>& s);
+template <class T> bool valid(const ConvexPolyhedron<T>& p);  // every plane valid (no planes: valid)
 
 // The exact answers (T = float or double; explicitly instantiated in the library).
 template <class T> Exact<T> exact(const Ray<T>& ray, const Aabb<T>& box);
 template <class T> Exact<T> exact(const Ray<T>& ray, const Obb<T>& box);
 template <class T> Exact<T> exact(const Ray<T>& ray, const Plane<T>& plane);
 template <class T> Exact<T> exact(const Ray<T>& ray, const Sphere<T>& sphere);
+template <class T> Exact<T> exact(const Ray<T>& ray, const ConvexPolyhedron<T>& poly);
 
 // How a floating-point answer relates to the exact one.
 enum class Outcome {

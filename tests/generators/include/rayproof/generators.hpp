@@ -22,6 +22,8 @@
 //                 parallel planes, a plane crossing near the top of the range next to
 //                 a limit, nearly dependent Obb axes
 //   rotated_integer (Obb) integer, non-normalized, rotated or sheared axes
+//   duplicates, unbounded, infeasible, many_planes   (ConvexPolyhedron, whose cases hold
+//                 their planes in an OwnedPolyhedron: see ray_polyhedron.hpp)
 //   invalid       one invalid input class of the contract per case, every class drawn
 #pragma once
 
@@ -29,6 +31,7 @@
 #include <rayproof/generators/core.hpp>
 #include <rayproof/generators/ray_obb.hpp>
 #include <rayproof/generators/ray_plane.hpp>
+#include <rayproof/generators/ray_polyhedron.hpp>
 #include <rayproof/generators/ray_sphere.hpp>
 
 #include <span>
@@ -63,12 +66,24 @@ template <class T> struct Registry<T, Plane<T>> {
 template <class T> struct Registry<T, Sphere<T>> {
     static constexpr Generator<T, Sphere<T>> list[] = {RAYPROOF_GEN_FAMILIES(sphere), {"invalid", sphere_invalid<T>}};
 };
+// Polyhedron cases own their planes (OwnedPolyhedron, ray_polyhedron.hpp).
+template <class T> struct Registry<T, OwnedPolyhedron<T>> {
+    static constexpr Generator<T, OwnedPolyhedron<T>> list[] = {
+        RAYPROOF_GEN_FAMILIES(polyhedron),        {"duplicates", polyhedron_duplicates<T>},
+        {"unbounded", polyhedron_unbounded<T>},   {"infeasible", polyhedron_infeasible<T>},
+        {"many_planes", polyhedron_many_planes<T>}, {"invalid", polyhedron_invalid<T>}};
+};
 #undef RAYPROOF_GEN_FAMILIES
 }  // namespace detail
 
 // All generators for one shape, in a fixed order.
 template <class T, class Shape> constexpr std::span<const Generator<T, Shape>> generators() {
     return detail::Registry<T, Shape>::list;
+}
+
+// The polyhedron generators (their cases own the planes: c.shape.view() is the shape).
+template <class T> constexpr std::span<const Generator<T, OwnedPolyhedron<T>>> polyhedron_generators() {
+    return generators<T, OwnedPolyhedron<T>>();
 }
 
 // The generator with this name, or nullptr.
@@ -95,6 +110,8 @@ template <> constexpr std::string_view shape_name<Plane<float>>() { return "plan
 template <> constexpr std::string_view shape_name<Plane<double>>() { return "plane"; }
 template <> constexpr std::string_view shape_name<Sphere<float>>() { return "sphere"; }
 template <> constexpr std::string_view shape_name<Sphere<double>>() { return "sphere"; }
+template <> constexpr std::string_view shape_name<OwnedPolyhedron<float>>() { return "polyhedron"; }
+template <> constexpr std::string_view shape_name<OwnedPolyhedron<double>>() { return "polyhedron"; }
 
 template <class T> constexpr std::string_view scalar_name() { return std::is_same_v<T, float> ? "float" : "double"; }
 
