@@ -15,7 +15,9 @@
 //   - invalid inputs (zero normal, non-finite numbers, the ray's own classes);
 //   - verdict() == intersect().verdict in every mode; batch == scalar and PreparedRay ==
 //     Ray (and RuntimeMode::certified == certified) bit for bit in certified mode;
-//     conservative encloses the certified interval.
+//     conservative encloses the certified interval;
+//   - certified and conservative answers under directed rounding equal the default
+//     environment's, bit for bit.
 // Every random case is seeded (RAYPROOF_SEED=<decimal> replays, seeded.hpp) and prints
 // the ray and the planes in hexadecimal when it fails; vectors are drawn in braces, whose
 // elements are evaluated left to right, so every compiler draws the same cases.
@@ -23,6 +25,7 @@
 #include "unit_support.hpp"
 
 #include <algorithm>
+#include <cfenv>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -502,4 +505,40 @@ TYPED_TEST(RayPolyhedron, BatchEqualsScalar) {
     for (std::size_t i = 0; i < rays.size(); ++i) EXPECT_EQ(out[i].verdict, intersect(rays[i], c, conservative).verdict);
     std::vector<Hit<T>> short_out(1);
     EXPECT_THROW(intersect(std::span<const Ray<T>>(rays), c, certified, std::span<Hit<T>>(short_out)), std::invalid_argument);
+}
+
+namespace {
+template <class T>
+[[gnu::noinline]] void answers(const std::vector<Ray<T>>& rays, const ConvexPolyhedron<T>& c, std::vector<Hit<T>>& out) {
+    out.clear();
+    for (const Ray<T>& r : rays) {
+        out.push_back(intersect(r, c, certified));
+        out.push_back(intersect(r, c, conservative));
+    }
+}
+}  // namespace
+
+TYPED_TEST(RayPolyhedron, DirectedRoundingChangesNothing) {
+    using T = TypeParam;
+    auto rng = make_rng();
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::uniform_real_distribution<double> unit(-1, 1);
+    std::vector<Plane<T>> p;
+    for (int k = 0; k < 12; ++k) p.push_back({Vec3<T>{T(unit(rng)), T(unit(rng)), T(unit(rng))}, T(2 + unit(rng))});
+    const ConvexPolyhedron<T> c{p};
+    std::vector<Ray<T>> rays;
+    for (int n = 0; n < 2000; ++n) rays.push_back(hard_scene<T>(rng).ray);
+    std::vector<Hit<T>> want, got;
+    answers(rays, c, want);
+    int hits = 0;
+    for (const Hit<T>& h : want) hits += h.verdict == Verdict::hit;
+    EXPECT_GT(hits, 200);
+    for (const int mode : {FE_UPWARD, FE_DOWNWARD, FE_TOWARDZERO}) {
+        ASSERT_EQ(std::fesetround(mode), 0);
+        answers(rays, c, got);
+        ASSERT_EQ(std::fesetround(FE_TONEAREST), 0);
+        ASSERT_EQ(got.size(), want.size());
+        for (std::size_t i = 0; i < want.size(); ++i)
+            ASSERT_TRUE(same_hit(got[i], want[i])) << "rounding mode " << mode << ", " << repro(rays[i / 2], p);
+    }
 }

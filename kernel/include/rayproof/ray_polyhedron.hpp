@@ -30,10 +30,12 @@
 //            eN, |D~ - D| < eD (e = fl(fl(gamma(5)·S~) + 2^-1022), S~ the same sum of
 //            absolute values; derivation at poly_crossing); the sign of den, and the
 //            origin's side for a parallel plane (den == 0 exactly), are certain from the
-//            bounds or decided exactly; each crossing is enclosed by the outward-rounded
-//            quotient of the two enclosures (unbounded on one side when den may be tiny);
-//            [t_enter, t_exit] = [largest entry lower bound, smallest exit upper bound],
-//            which encloses the exact interval, so the verdict can only err towards hit.
+//            bounds or decided exactly; each crossing is enclosed around q = fl(N~/D~) by a
+//            derived bound (crossing_enclosure), or, when den is within twice its bound
+//            of 0, by the outward-rounded quotient of the two enclosures (unbounded on one
+//            side then); [t_enter, t_exit] = [largest entry lower bound, smallest exit
+//            upper bound], which encloses the exact interval, so the verdict can only err
+//            towards hit.
 //            certified — the same enclosures filter each comparison of the pass (a
 //            crossing against the current entry or exit, entry against exit); what they
 //            cannot separate is decided exactly (detail/exact.hpp, detail/certified.hpp:
@@ -152,6 +154,33 @@ inline Interval<double> around(double x, double e, bool finite) {
     return Interval<double>(x) + Interval<double>(-e, e);
 }
 
+// The crossing t = N/D enclosed, given the exact sign s != 0 of D. When both bounds hold
+// and |D~| > 2·eD (D's sign is then certain and |D| > |D~|/2), from q = fl(N~/D~):
+// with N = N~ + a, D = D~ + b, |a| < eN, |b| < eD and r = |N~/D~|,
+//     |t - N~/D~| = |a·D~ - N~·b|/|D·D~| < (eN + r·eD)/|D| < 2(eN + r·eD)/|D~|,
+// and q = (N~/D~)(1 + δ) + η (|δ| <= u, |η| <= 2^-1075), so r <= |q|(1 + 2u) + 2^-1074 and
+//     |t - q| < 2(1 + 2u)(eN + |q|·eD)/|D~| + 2^-52|q| + 2^-1073.
+// Computed: X = fl(fl(eN + fl(|q|·eD))/|D~|) is at least (1 - 4u)(eN + |q|·eD)/|D~| -
+// 2^-1075 (three roundings; the product's underflow, at most 2^-1075 <= u·eN as eN >=
+// 2^-1022, counted as a fourth), and E = fl(fl(3·X) + fl(2^-51·|q|)) + 2^-1020, rounded,
+// covers the bound: 3(1 - 4u)(1 - u)^3 > 2(1 + 2u), 2^-51(1 - u)^2 > 2^-52 and 2^-1020(1 -
+// u) exceeds every absolute term (each a few 2^-1075). An overflow makes E infinite
+// (the whole line, still an enclosure). The ends q ∓ E are rounded outward (Interval).
+// Contraction: class C1 (a fused step has fewer roundings). Otherwise (q infinite, den
+// nearly 0 or a bound not holding) the outward-rounded interval quotient, unbounded on
+// one side when D's enclosure holds 0 (divide_signed).
+inline Interval<double> crossing_enclosure(const PolyCrossing& c, int s) {
+    if (c.finite_N && c.finite_D && std::abs(c.D) > 2 * c.eD) {
+        const double q = c.N / c.D, aq = std::abs(q);
+        if (aq <= std::numeric_limits<double>::max()) {
+            const double X = (c.eN + aq * c.eD) / std::abs(c.D);
+            const double E = (3 * X + 0x1p-51 * aq) + 0x1p-1020;
+            return Interval<double>(q) + Interval<double>(-E, E);
+        }
+    }
+    return divide_signed(around(c.N, c.eN, c.finite_N), around(c.D, c.eD, c.finite_D), s);
+}
+
 // The ray and the planes as a source of exact quotients (detail/certified.hpp): plane k's
 // crossing num_k/den_k (side ignored). Degree 2 in the inputs, so a comparison of two
 // crossings, sign(num_a·den_b - num_b·den_a), is degree 4: exact in Expansion for
@@ -264,8 +293,7 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedPolyhedron<T>& p,
             if (!poly_inside(c, src, int(k))) return h;
             continue;
         }
-        const Interval<double> v =
-            divide_signed(around(c.N, c.eN, c.finite_N), around(c.D, c.eD, c.finite_D), s);
+        const Interval<double> v = crossing_enclosure(c, s);
         if (s < 0) {
             if (v.lo > lo) {
                 lo = v.lo;
@@ -311,8 +339,7 @@ template <class T, bool Full> Hit<T> poly_certified(const Ray<T>& r, std::span<c
             }
             continue;
         }
-        const Interval<double> v =
-            divide_signed(around(c.N, c.eN, c.finite_N), around(c.D, c.eD, c.finite_D), s);
+        const Interval<double> v = crossing_enclosure(c, s);
         const SlabRef x{int(k), 0, 0};
         if (s < 0) {  // entering: replace on a strictly greater crossing
             bool greater;
