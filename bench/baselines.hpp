@@ -9,7 +9,12 @@
 //               the form of Shirley's and Scratchapixel's notes). Obb: the same in the
 //               box frame, (o - c)·a_i + t·(d·a_i) in [-h_i, h_i]. Sphere: the
 //               textbook quadratic, disc = b² - a·c, roots (-b ∓ √disc)/a. Plane:
-//               t = (offset - n·o)/(n·d).
+//               t = (offset - n·o)/(n·d). ConvexPolyhedron: Haines' loop over the planes
+//               (E. Haines, "Fast Ray-Convex Polyhedron Intersection", Graphics Gems II,
+//               1991): per plane vd = n·d, vn = n·o - offset; vd == 0 and vn > 0 is a
+//               miss (parallel, outside), else t = -vn/vd is an entry (vd < 0: a miss if
+//               past the exit so far, else the latest entry) or an exit (vd > 0: a miss
+//               if before the entry so far, else the earliest exit).
 //   branchless  the branch-free slab with the inverse direction (Williams et al., JGT
 //               2005; the min/max form of tavianator's notes): inv = 1/d, t1 = (lo -
 //               o)·inv, t2 = (hi - o)·inv, t_enter = max(t_enter, min(t1, t2)), t_exit
@@ -23,6 +28,7 @@
 #include <rayproof/types.hpp>
 
 #include <cmath>
+#include <cstddef>
 #include <utility>
 
 namespace rayproof::bench::baseline {
@@ -115,6 +121,32 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> textbook(const Ray<T>& r, const
     const T t = num / den;
     if (t < r.t_min || t > r.t_max) return Hit<T>{};
     return make_hit(t, t, -1);
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> textbook(const Ray<T>& r, const ConvexPolyhedron<T>& p) {
+    T t_near = r.t_min, t_far = r.t_max;
+    int face = -1;
+    for (std::size_t k = 0; k < p.planes.size(); ++k) {
+        const Plane<T>& q = p.planes[k];
+        const T vd = q.normal.dot(r.direction);
+        const T vn = q.normal.dot(r.origin) - q.offset;
+        if (vd == 0) {
+            if (vn > 0) return Hit<T>{};
+            continue;
+        }
+        const T t = -vn / vd;
+        if (vd < 0) {
+            if (t > t_far) return Hit<T>{};
+            if (t > t_near) {
+                t_near = t;
+                face = int(k);
+            }
+        } else {
+            if (t < t_near) return Hit<T>{};
+            if (t < t_far) t_far = t;
+        }
+    }
+    return make_hit(t_near, t_far, face);
 }
 
 // ---- branchless (boxes only) -------------------------------------------------------

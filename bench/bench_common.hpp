@@ -17,8 +17,9 @@
 //                                                       Ray or prepared once (ray_aabb_bench.cpp)
 // Methods: the kernel's modes fast, conservative, certified, and certified_verdict (the
 // verdict query alone, rayproof::verdict in certified mode); the baselines textbook,
-// branchless (boxes), cgal_epeck, cgal_rational (Aabb, Plane, Sphere), embree and
-// embree_robust (Sphere<float>).
+// branchless (boxes), cgal_epeck, cgal_rational (Aabb, Plane, Sphere, polyhedron), embree
+// and embree_robust (Sphere<float>). A polyhedron's shape name is "polyhedron"; its cases
+// own their planes and every method is handed kernel_shape() of them (workloads.hpp).
 //
 // The scalar loop answers the first `cases` cases of a workload (same seed, same cases
 // for every method: the accuracy tool judges these very rays) into an output array, as
@@ -165,7 +166,7 @@ void time_pair(benchmark::State& st, std::size_t n, const std::string& a_key, A 
 // The verdict query timed as the CGAL baselines are: the verdict stored in a Hit.
 template <class T, class Shape> RAYPROOF_BENCH_INLINE inline Hit<T> certified_verdict_hit(const Ray<T>& r, const Shape& s) {
     Hit<T> h;
-    h.verdict = verdict(r, s, rayproof::certified);
+    h.verdict = verdict(r, kernel_shape(s), rayproof::certified);
     return h;
 }
 
@@ -173,9 +174,9 @@ template <class T, class Shape> RAYPROOF_BENCH_INLINE inline Hit<T> certified_ve
 template <class T, class Shape> void time_paired(benchmark::State& st) {
     time_pair<T, Shape>(
         st, options().cases, bench_name<T, Shape>("scalar", "uniform", "fast"),
-        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::fast); },
+        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::fast); },
         bench_name<T, Shape>("scalar", "uniform", "certified"),
-        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::certified); });
+        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::certified); });
 }
 
 // Registers the kernel's three modes and the plain baselines for one shape and type.
@@ -187,15 +188,15 @@ template <class T, class Shape> void register_scalar_kernel(std::string_view wor
             time_scalar<T, Shape>(st, name, w, options().cases, f);
         });
     };
-    reg("fast", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::fast); });
-    reg("conservative", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::conservative); });
-    reg("certified", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, rayproof::certified); });
+    reg("fast", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::fast); });
+    reg("conservative", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::conservative); });
+    reg("certified", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::certified); });
     // The verdict alone (rayproof::verdict), stored as the CGAL baselines store theirs:
     // the question do_intersect answers, on the same cases.
     reg("certified_verdict", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE {
         return certified_verdict_hit<T>(r, s);
     });
-    reg("textbook", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return baseline::textbook(r, s); });
+    reg("textbook", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return baseline::textbook(r, kernel_shape(s)); });
     if constexpr (baseline::has_branchless<Shape>)
         reg("branchless", [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return baseline::branchless(r, s); });
 }
@@ -246,8 +247,10 @@ template <template <class> class S> void register_shape() {
         register_scalar_kernel<double, S<double>>(w);
         register_scalar_kernel<float, S<float>>(w);
     }
-    register_batch<double, S<double>>();
-    register_batch<float, S<float>>();
+    if constexpr (!is_polyhedron_v<S<float>>) {  // no batch sweep for polyhedra (workloads.hpp)
+        register_batch<double, S<double>>();
+        register_batch<float, S<float>>();
+    }
 }
 
 // Defined by the per-shape files and the baseline files.
@@ -255,6 +258,7 @@ void register_aabb();
 void register_obb();
 void register_plane();
 void register_sphere();
+void register_polyhedron();
 void register_fp_env();  // fp_env_bench.cpp
 void register_cgal();    // cgal_bench.cpp
 void register_embree();  // embree_bench.cpp

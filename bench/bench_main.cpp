@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
     register_obb();
     register_plane();
     register_sphere();
+    register_polyhedron();
     register_fp_env();
 #ifdef RAYPROOF_BENCH_HAVE_CGAL
     register_cgal();

@@ -73,6 +73,33 @@ template <class K, class T, class Shape> bool do_intersect_range(const Ray<T>& r
     return CGAL::do_intersect(seg, obj);
 }
 
+// The exact slab loop over a polyhedron's planes (see cgal_baselines.hpp for why).
+template <class K, class T> bool do_intersect_range(const Ray<T>& r, const ConvexPolyhedron<T>& p) {
+    using FT = typename K::FT;
+    bool lo_inf = std::isinf(r.t_min), hi_inf = std::isinf(r.t_max);  // -inf, +inf (valid rays)
+    FT lo = lo_inf ? FT(0) : FT(double(r.t_min));
+    FT hi = hi_inf ? FT(0) : FT(double(r.t_max));
+    const typename K::Vector_3 o = vector<K>(r.origin);
+    const typename K::Vector_3 d = vector<K>(r.direction);
+    for (const Plane<T>& q : p.planes) {
+        const typename K::Vector_3 n = vector<K>(q.normal);
+        const FT den = n * d;
+        const FT num = FT(double(q.offset)) - n * o;
+        if (CGAL::is_zero(den)) {
+            if (CGAL::is_negative(num)) return false;  // parallel, outside
+            continue;
+        }
+        const FT t = num / den;
+        if (CGAL::is_negative(den)) {
+            if (lo_inf || t > lo) lo = t, lo_inf = false;
+        } else if (hi_inf || t < hi) {
+            hi = t, hi_inf = false;
+        }
+        if (!lo_inf && !hi_inf && lo > hi) return false;
+    }
+    return true;
+}
+
 }  // namespace
 
 template <class T, class Shape> bool epeck(const Ray<T>& ray, const Shape& shape) {
@@ -91,6 +118,8 @@ RAYPROOF_BENCH_CGAL_INSTANTIATE(float, Sphere)
 RAYPROOF_BENCH_CGAL_INSTANTIATE(double, Sphere)
 RAYPROOF_BENCH_CGAL_INSTANTIATE(float, Plane)
 RAYPROOF_BENCH_CGAL_INSTANTIATE(double, Plane)
+RAYPROOF_BENCH_CGAL_INSTANTIATE(float, ConvexPolyhedron)
+RAYPROOF_BENCH_CGAL_INSTANTIATE(double, ConvexPolyhedron)
 #undef RAYPROOF_BENCH_CGAL_INSTANTIATE
 
 }  // namespace rayproof::bench::cgal

@@ -17,12 +17,12 @@ template <class T, class Shape> void register_one(std::string_view workload_name
     const std::string epeck = bench_name<T, Shape>("scalar", w, "cgal_epeck");
     benchmark::RegisterBenchmark(epeck.c_str(), [epeck, w](benchmark::State& st) {
         time_scalar<T, Shape>(st, epeck, w, options().cgal_cases,
-                              [](const Ray<T>& r, const Shape& s) { return verdict_only<T>(cgal::epeck(r, s)); });
+                              [](const Ray<T>& r, const Shape& s) { return verdict_only<T>(cgal::epeck(r, kernel_shape(s))); });
     });
     const std::string rational = bench_name<T, Shape>("scalar", w, "cgal_rational");
     benchmark::RegisterBenchmark(rational.c_str(), [rational, w](benchmark::State& st) {
         time_scalar<T, Shape>(st, rational, w, options().cgal_cases,
-                              [](const Ray<T>& r, const Shape& s) { return verdict_only<T>(cgal::rational(r, s)); });
+                              [](const Ray<T>& r, const Shape& s) { return verdict_only<T>(cgal::rational(r, kernel_shape(s))); });
     });
 }
 
@@ -34,7 +34,7 @@ template <class T, class Shape> void register_paired() {
                 st, options().cgal_cases, bench_name<T, Shape>("scalar", "uniform", "certified_verdict"),
                 [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return certified_verdict_hit<T>(r, s); },
                 bench_name<T, Shape>("scalar", "uniform", "cgal_epeck"),
-                [](const Ray<T>& r, const Shape& s) { return verdict_only<T>(cgal::epeck(r, s)); });
+                [](const Ray<T>& r, const Shape& s) { return verdict_only<T>(cgal::epeck(r, kernel_shape(s))); });
         });
 }
 
@@ -53,5 +53,6 @@ void register_cgal() {
     register_shape_cgal<Aabb>();
     register_shape_cgal<Plane>();
     register_shape_cgal<Sphere>();
+    register_shape_cgal<gen::OwnedPolyhedron>();
 }
 }  // namespace rayproof::bench

@@ -3,7 +3,7 @@
 // cases being the first of them), and the oracle's judge scores each answer against the
 // exact one.
 //
-//   rayproof_trade_accuracy [--cases N] [--cgal-cases N] [--seed S] [--shape aabb,obb,...]
+//   rayproof_trade_accuracy [--cases N] [--cgal-cases N] [--seed S] [--shape aabb,obb,...,polyhedron]
 //                           [--methods fast,certified,...] [--timeout SECONDS]
 //                           [--show-method METHOD --show N]   (the wrong cases, on stderr)
 //
@@ -65,7 +65,7 @@ struct Options {
     std::size_t cases = 1 << 17;
     std::size_t cgal_cases = 1 << 14;
     std::uint64_t seed = kDefaultSeed;
-    std::string shapes = "aabb,obb,plane,sphere";
+    std::string shapes = "aabb,obb,plane,sphere,polyhedron";
     std::string methods;      // only these methods (empty: all)
     double timeout = 120;     // seconds per (shape, type, workload, method)
     std::string show_method;  // print the cases this method gets wrong (stderr)
@@ -180,31 +180,31 @@ template <class T, class Shape> void run_workload(std::string_view w) {
     const auto cases = workload<T, Shape>(w, opts.cases, opts.seed);
     std::vector<Exact<T>> exact;
     exact.reserve(cases.size());
-    for (const auto& c : cases) exact.push_back(oracle::exact(c.ray, c.shape));
+    for (const auto& c : cases) exact.push_back(oracle::exact(c.ray, kernel_shape(c.shape)));
     const std::size_t n = cases.size();
     const unsigned all = face | t_both;
     judge_method(w, "fast", cases, exact, n, all,
-                 [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::fast); });
+                 [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, kernel_shape(s), rayproof::fast); });
     judge_method(w, "conservative", cases, exact, n, all,
-                 [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::conservative); });
+                 [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, kernel_shape(s), rayproof::conservative); });
     judge_method(w, "certified", cases, exact, n, all,
-                 [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, s, rayproof::certified); });
+                 [](std::size_t, const Ray<T>& r, const Shape& s) { return intersect(r, kernel_shape(s), rayproof::certified); });
     judge_method(w, "certified_verdict", cases, exact, n, verdict_only, [](std::size_t, const Ray<T>& r, const Shape& s) {
         Hit<T> h;
-        h.verdict = verdict(r, s, rayproof::certified);
+        h.verdict = verdict(r, kernel_shape(s), rayproof::certified);
         return h;
     });
     judge_method(w, "textbook", cases, exact, n, all,
-                 [](std::size_t, const Ray<T>& r, const Shape& s) { return baseline::textbook(r, s); });
+                 [](std::size_t, const Ray<T>& r, const Shape& s) { return baseline::textbook(r, kernel_shape(s)); });
     if constexpr (baseline::has_branchless<Shape>)
         judge_method(w, "branchless", cases, exact, n, t_both,
                      [](std::size_t, const Ray<T>& r, const Shape& s) { return baseline::branchless(r, s); });
 #ifdef RAYPROOF_BENCH_HAVE_CGAL
     if constexpr (cgal::supported<Shape>) {
         judge_method(w, "cgal_epeck", cases, exact, opts.cgal_cases, verdict_only,
-                     [](std::size_t, const Ray<T>& r, const Shape& s) { return verdict_hit<T>(cgal::epeck(r, s)); });
+                     [](std::size_t, const Ray<T>& r, const Shape& s) { return verdict_hit<T>(cgal::epeck(r, kernel_shape(s))); });
         judge_method(w, "cgal_rational", cases, exact, opts.cgal_cases, verdict_only,
-                     [](std::size_t, const Ray<T>& r, const Shape& s) { return verdict_hit<T>(cgal::rational(r, s)); });
+                     [](std::size_t, const Ray<T>& r, const Shape& s) { return verdict_hit<T>(cgal::rational(r, kernel_shape(s))); });
     }
 #endif
 #ifdef RAYPROOF_BENCH_HAVE_EMBREE
@@ -267,5 +267,6 @@ int main(int argc, char** argv) {
     if (wanted("obb")) run_shape<Obb>();
     if (wanted("plane")) run_shape<Plane>();
     if (wanted("sphere")) run_shape<Sphere>();
+    if (wanted("polyhedron")) run_shape<gen::OwnedPolyhedron>();
     return 0;
 }

@@ -48,7 +48,7 @@ namespace {
 
 using json = nlohmann::json;
 
-const std::vector<std::string> kShapes = {"aabb", "obb", "plane", "sphere"};
+const std::vector<std::string> kShapes = {"aabb", "obb", "plane", "sphere", "polyhedron"};
 const std::vector<std::string> kTypes = {"double", "float"};
 const std::vector<std::string> kWorkloads = {"uniform", "grazing", "parallel", "extreme", "far_small"};
 const std::vector<std::string> kMethods = {"fast",          "conservative", "certified",  "certified_verdict",
@@ -71,7 +71,7 @@ const std::map<std::string, std::string> kWorkloadLabel = {
     {"extreme", "extreme magnitudes"}, {"far_small", "far small shapes"},
 };
 const std::map<std::string, std::string> kShapeLabel = {
-    {"aabb", "Aabb"}, {"obb", "Obb"}, {"plane", "Plane"}, {"sphere", "Sphere"}};
+    {"aabb", "Aabb"}, {"obb", "Obb"}, {"plane", "Plane"}, {"sphere", "Sphere"}, {"polyhedron", "ConvexPolyhedron"}};
 
 std::vector<std::string> split(const std::string& s, char sep) {
     std::vector<std::string> out;
@@ -515,11 +515,13 @@ std::string batch_table(const Report& r) {
         for (const auto& t : kTypes)
             for (const char* m : {"fast", "conservative", "certified"}) {
                 cells = {kShapeLabel.at(s), t, m};
+                bool timed = false;  // shapes without a batch sweep (the polyhedron) get no row
                 for (long n : sizes) {
                     const auto it = r.timing.find("batch/" + s + "/" + t + "/" + m + "/" + std::to_string(n));
+                    timed = timed || it != r.timing.end();
                     cells.push_back(it == r.timing.end() ? "—" : num(1e3 / it->second.ns));
                 }
-                o += row(cells);
+                if (timed) o += row(cells);
             }
     return prose()("batch", {{"table", o}});
 }
@@ -668,7 +670,8 @@ const std::vector<std::string> kColors = {"#1b9e77", "#e6ab02", "#d95f02", "#fb9
 // type.
 void write_plot_data(const Report& r, const std::string& path) {
     std::ofstream dat(path);
-    const std::map<std::string, int> pt_open = {{"aabb", 4}, {"obb", 6}, {"plane", 8}, {"sphere", 12}};
+    const std::map<std::string, int> pt_open = {{"aabb", 4}, {"obb", 6}, {"plane", 8}, {"sphere", 12},
+                                                {"polyhedron", 14}};
     const double floor_ppm = 0.5;
     for (const auto& w : kWorkloads) {
         fmt::print(dat, "# workload {}\n", w);
@@ -703,8 +706,9 @@ void write_plot_legend(std::ostream& gp) {
                    kColors[mi]);
     }
     gp << "set label 20 'point: Aabb square, Obb circle,' at 5.2,9.3\n";
-    gp << "set label 21 'Plane triangle, Sphere diamond;' at 5.2,8.45\n";
-    gp << "set label 22 'filled: double, open: float' at 5.2,7.6\n";
+    gp << "set label 21 'Plane triangle, Sphere diamond,' at 5.2,8.45\n";
+    gp << "set label 22 'ConvexPolyhedron pentagon;' at 5.2,7.6\n";
+    gp << "set label 23 'filled: double, open: float' at 5.2,6.75\n";
     gp << "plot NaN notitle\nunset multiplot\n";
 }
 

@@ -13,6 +13,15 @@
 //              rejection (origin in [-1, 1]³, the shape at least 2^20 away and at most
 //              2^-9 of that distance across, nonzero size); Aabb, Obb and Sphere
 //
+// A convex polyhedron's case owns its planes (gen::OwnedPolyhedron); kernel_shape() is the
+// kernel's ConvexPolyhedron over them (a span, built per query at no cost), the other
+// shapes' cases are the kernel's shapes already. Its workloads are the same generators'
+// (general: 4 to 12 random planes around a centre; grazing: rays exactly through a
+// vertex, along an edge or in a face plane of an integer polytope, and those an ulp
+// off; parallel; extreme). It has no far_small (it has no one size) and no batch sweep
+// (the batch form aims uniform rays at one shape by its centre, which a polyhedron's
+// planes do not state).
+//
 // The batch form answers many rays against one shape: batch_workload() takes the uniform
 // cases and translates each ray by the difference of the shapes' centres, so that every
 // ray is aimed at the first case's shape as it was at its own (uniform rays only: the
@@ -26,6 +35,7 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 namespace rayproof::bench {
@@ -40,8 +50,18 @@ inline constexpr std::string_view kWorkloads[] = {"uniform", "grazing", "paralle
 template <class Shape> inline constexpr bool is_plane_v =
     std::is_same_v<Shape, Plane<float>> || std::is_same_v<Shape, Plane<double>>;
 
-// Whether the workload exists for the shape (a plane has no size: no far_small).
-template <class Shape> constexpr bool has_workload(std::string_view w) { return !(w == "far_small" && is_plane_v<Shape>); }
+template <class Shape> inline constexpr bool is_polyhedron_v =
+    std::is_same_v<Shape, gen::OwnedPolyhedron<float>> || std::is_same_v<Shape, gen::OwnedPolyhedron<double>>;
+
+// Whether the workload exists for the shape (a plane or a polyhedron has no one size: no
+// far_small).
+template <class Shape> constexpr bool has_workload(std::string_view w) {
+    return !(w == "far_small" && (is_plane_v<Shape> || is_polyhedron_v<Shape>));
+}
+
+// The kernel's shape of a case's shape: itself, or the ConvexPolyhedron over the owned planes.
+template <class S> constexpr const S& kernel_shape(const S& s) { return s; }
+template <class T> ConvexPolyhedron<T> kernel_shape(const gen::OwnedPolyhedron<T>& p) { return p.view(); }
 
 namespace detail {
 
@@ -67,6 +87,7 @@ template <class T> bool far_small(const Case<T, Sphere<T>>& c) {
     return small_origin(c.ray) && dist >= kFar<T> && c.shape.radius > 0 && c.shape.radius <= std::ldexp(dist, -9);
 }
 template <class T> bool far_small(const Case<T, Plane<T>>&) { return false; }
+template <class T> bool far_small(const Case<T, gen::OwnedPolyhedron<T>>&) { return false; }
 
 // The generator that a single-generator workload draws from ("" for the mixed ones).
 constexpr std::string_view single_generator(std::string_view workload) {

@@ -146,8 +146,9 @@ t0=$(date +%s)
 "$B/rayproof_trade_accuracy" --cases "$CASES" --cgal-cases "$CGAL_CASES" --timeout 60 \
   --shape aabb,obb,plane >"$OUT/accuracy_boxes.csv" 2>"$OUT/accuracy_boxes.log" &
 acc1=$!
+# (accuracy_sphere.csv holds the sphere's and the convex polyhedron's rows)
 "$B/rayproof_trade_accuracy" --cases "$CASES" --cgal-cases "$CGAL_CASES" --timeout 60 \
-  --shape sphere >"$OUT/accuracy_sphere.csv" 2>"$OUT/accuracy_sphere.log" &
+  --shape sphere,polyhedron >"$OUT/accuracy_sphere.csv" 2>"$OUT/accuracy_sphere.log" &
 acc2=$!
 wait $acc1 $acc2
 audit="$BUILD/tools/audit/rayproof-audit"

@@ -5,7 +5,7 @@
 // oracle and prints one row per shape × scalar type × generator × mode, and the number of
 // cases each generator ran:
 //
-//   rayproof-audit [--cases N] [--seed S] [--shape aabb|obb|plane|sphere|all]
+//   rayproof-audit [--cases N] [--seed S] [--shape aabb|obb|plane|sphere|polyhedron|all]
 //                  [--type float|double|all] [--generator NAME] [--format md|csv]
 //                  [--jobs J] [--examples K] [--check] [--list] [--progress]
 //                  [--shard K/N] [--save FILE]
@@ -49,6 +49,8 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -91,7 +93,7 @@ std::optional<int> parse(int argc, char** argv, Options& o) {
     app.add_option("--cases", o.cases, "cases per generator, shape and scalar type")->check(cli::positive);
     app.add_option("--seed", o.seed, "master seed (decimal or 0x hex)")->check(cli::non_negative);
     app.add_option("--shape", o.shape, "restrict to one shape")
-        ->check(CLI::IsMember({"aabb", "obb", "plane", "sphere", "all"}));
+        ->check(CLI::IsMember({"aabb", "obb", "plane", "sphere", "polyhedron", "all"}));
     app.add_option("--type", o.type, "restrict to one scalar type")->check(CLI::IsMember({"float", "double", "all"}));
     app.add_option("--generator", o.generator, "restrict to one generator name (see --list)");
     app.add_option("--format", o.format, "md (a Markdown table with a legend) or csv")
@@ -173,6 +175,18 @@ std::int64_t now_ms() {
         .count();
 }
 
+// The kernel's shape of a case's shape: itself, or the ConvexPolyhedron over the planes
+// a polyhedron case owns (gen::OwnedPolyhedron).
+template <class S> const S& kernel_shape(const S& s) { return s; }
+template <class T> ConvexPolyhedron<T> kernel_shape(const gen::OwnedPolyhedron<T>& p) { return p.view(); }
+template <class S> using KernelShape = std::remove_cvref_t<decltype(kernel_shape(std::declval<const S&>()))>;
+
+// The case's C++ type as make_case spells it, for the slow-case message.
+std::string shape_type(const std::string& shape, const std::string& type) {
+    if (shape == "polyhedron") return "rayproof::gen::OwnedPolyhedron<" + type + ">";
+    return "rayproof::" + std::string(1, char(std::toupper(shape[0]))) + shape.substr(1) + '<' + type + '>';
+}
+
 // One row group: one generator of one shape and scalar type, all modes.
 struct Job {
     std::function<void(std::vector<Row>&, Slot&)> run;
@@ -187,8 +201,9 @@ template <class T, class Shape, class Mode>
 void judge_into(Stats& s, const gen::Case<T, Shape>& c, const oracle::Exact<T>& e, Mode mode, std::uint64_t index,
                 std::uint64_t seed, unsigned max_examples) {
     const ModeId id = oracle::mode_id(mode);
-    const Hit<T> h = intersect(c.ray, c.shape, mode);
-    const oracle::ContractCheck check = oracle::check_contract(c.ray, c.shape, h, e, mode);
+    const auto shape = kernel_shape(c.shape);
+    const Hit<T> h = intersect(c.ray, shape, mode);
+    const oracle::ContractCheck check = oracle::check_contract(c.ray, shape, h, e, mode);
     const oracle::Judgement& j = check.judgement;
     oracle::Tally& t = s.tally;
     ++t.cases;
@@ -198,7 +213,7 @@ void judge_into(Stats& s, const gen::Case<T, Shape>& c, const oracle::Exact<T>& 
     t.count_coherence(h);
     const bool bad_coherence = t.incoherent != incoherent_before;
     // verdict() promises the full answer's verdict in every mode.
-    const Verdict alone = verdict(c.ray, c.shape, mode);
+    const Verdict alone = verdict(c.ray, shape, mode);
     const bool v = check.promise_broken() || alone != h.verdict;
     if (v) ++t.violations;
     if (s.examples.size() < max_examples && (j.verdict_wrong() || v || bad_coherence)) {
@@ -220,9 +235,10 @@ void add_jobs(const Options& o, std::vector<Job>& jobs) {
         const std::string name(g.name);
         const auto make = g.make;
         for (ModeId m : {ModeId::fast, ModeId::conservative, ModeId::certified}) {
-            const bool available = m == ModeId::fast                 ? Answerable<T, Shape, fast_t>
-                                   : m == ModeId::conservative ? Answerable<T, Shape, conservative_t>
-                                                                     : Answerable<T, Shape, certified_t>;
+            using K = KernelShape<Shape>;
+            const bool available = m == ModeId::fast           ? Answerable<T, K, fast_t>
+                                   : m == ModeId::conservative ? Answerable<T, K, conservative_t>
+                                                               : Answerable<T, K, certified_t>;
             job.rows.push_back(Row{shape, type, name, m, available, {}});
         }
         job.run = [&o, shape, type, name, make](std::vector<Row>& rows, Slot& slot) {
@@ -232,11 +248,11 @@ void add_jobs(const Options& o, std::vector<Job>& jobs) {
                 slot.since_ms = now_ms();
                 gen::Rng rng(seed);
                 const gen::Case<T, Shape> c = make(rng);
-                const oracle::Exact<T> e = oracle::exact(c.ray, c.shape);
+                const oracle::Exact<T> e = oracle::exact(c.ray, kernel_shape(c.shape));
                 judge_into(rows[0].stats, c, e, fast, i, seed, o.examples);
-                if constexpr (Answerable<T, Shape, conservative_t>)
+                if constexpr (Answerable<T, KernelShape<Shape>, conservative_t>)
                     judge_into(rows[1].stats, c, e, conservative, i, seed, o.examples);
-                if constexpr (Answerable<T, Shape, certified_t>)
+                if constexpr (Answerable<T, KernelShape<Shape>, certified_t>)
                     judge_into(rows[2].stats, c, e, certified, i, seed, o.examples);
             }
             slot.since_ms = -1;
@@ -590,8 +606,8 @@ double run_jobs(const Options& o, std::vector<Job>& jobs, unsigned n_threads) {
                 const std::lock_guard<std::mutex> lock(progress_mutex);
                 std::cerr << "rayproof-audit: one case has been running for over 10 s: " << r.shape << ' ' << r.type
                           << ' ' << r.generator << ", seed 0x" << std::hex << seed << std::dec
-                          << " (rayproof::gen::make_case<" << r.type << ", rayproof::" << char(std::toupper(r.shape[0]))
-                          << r.shape.substr(1) << '<' << r.type << ">>(\"" << r.generator << "\", 0x" << std::hex
+                          << " (rayproof::gen::make_case<" << r.type << ", " << shape_type(r.shape, r.type)
+                          << ">(\"" << r.generator << "\", 0x" << std::hex
                           << seed << std::dec << "))\n";
             }
         }
@@ -612,6 +628,7 @@ int main(int argc, char** argv) {
         list_generators<double, Obb<double>>();
         list_generators<double, Plane<double>>();
         list_generators<double, Sphere<double>>();
+        list_generators<double, gen::OwnedPolyhedron<double>>();
         return 0;
     }
     if (!o.merge.empty()) {
@@ -631,6 +648,8 @@ int main(int argc, char** argv) {
     add_jobs<double, Plane<double>>(o, jobs);
     add_jobs<float, Sphere<float>>(o, jobs);
     add_jobs<double, Sphere<double>>(o, jobs);
+    add_jobs<float, gen::OwnedPolyhedron<float>>(o, jobs);
+    add_jobs<double, gen::OwnedPolyhedron<double>>(o, jobs);
     if (jobs.empty()) {
         std::cerr << "rayproof-audit: --generator: no generator of the shapes chosen is named '" << o.generator
                   << "' (see --list)\n";
