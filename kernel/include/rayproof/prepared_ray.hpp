@@ -44,7 +44,7 @@ public:
             finv_[i] = T(rinv_[i]);
             negative_[i] = std::signbit(ray.direction[i]);
             const double a = std::abs(rinv_[i]);
-            normal &= (a >= std::numeric_limits<double>::min()) & (a <= std::numeric_limits<double>::max());
+            normal &= bool(int(a >= std::numeric_limits<double>::min()) & int(a <= std::numeric_limits<double>::max()));
         }
         normal_ = normal & valid_;
     }
