@@ -28,7 +28,8 @@
 //            the empty slots, invalid rays and parallel axes above.
 //            conservative and certified — in double (float input is widened exactly), for
 //            each axis with 1/d_i normal: t~ = fl(fl(p - o)·rinv_i), rinv_i = fl(1/d_i)
-//            (PreparedRay::rinv). Error bound (the derivation of ray_aabb.hpp): with
+//            (PreparedRay::rinv). (The certified filter of a float packet runs in float
+//            instead, below.) Error bound (the derivation of ray_aabb.hpp): with
 //            rinv_i normal and finite, p - o exact when subnormal and a subnormal product
 //            off by at most 2^-1075, |t~ - t| <= gamma(3)|t| + 2^-1075, and the enclosure
 //                lo(t~) = fl(t~ - fl(fl(K|t~|) + eta)), hi(t~) = fl(t~ + fl(fl(K|t~|) + eta)),
@@ -39,7 +40,16 @@
 //            aabb_lanes), so the exact latest entry E lies in [max(t_min, lo(m)),
 //            max(t_min, hi(m))], m the largest computed entry, and the exact earliest
 //            exit X in [min(t_max, lo(M)), min(t_max, hi(M))], M the smallest computed
-//            exit. Contraction (eft.hpp): the six products are rounded() (class C3: the
+//            exit. Certified float packets: the same filter in float, eight lanes to a
+//            register, with inv_i = fl_f(rinv_i) (PreparedRay::inv) where every inv_i is a
+//            normal finite float (|d_i| in [2^-128, 2^126]; otherwise the double filter):
+//            inv_i = (1/d_i)(1 + a)(1 + b), |a| <= 2^-53, |b| <= u = 2^-24; fl_f(p - o)
+//            is exact when subnormal; the product adds (1 + c) and an absolute 2^-150, so
+//            |t~ - t| <= ((1 + u)^4 - 1)|t| + 2^-150 <= gamma_f(4)|t| + 2^-150, and the ends
+//            with K = 2·gamma_f(4), eta = 2^-126 (the smallest normal float) cover it as in
+//            double: K|t~|(1 - u)^2 - u|t~|(1 + K) >= gamma_f(4)/(1 - gamma_f(4))|t~|
+//            (about 7u against 4u), eta the absolute terms.
+//            Contraction (eft.hpp): the six products are rounded() (class C3: the
 //            probe and the bounds must see the values the comparisons see); the bounds
 //            are class C1.
 //            conservative — hit unless max(t_min, lo(m)) > min(t_max, hi(M)) (never a
@@ -109,13 +119,23 @@ namespace detail {
 
 namespace packet {
 
-// K = 2·gamma(3), eta = 2^-1022: see the header comment.
-inline constexpr double kK = 2 * gamma<double>(3);
-inline constexpr double kEta = 0x1p-1022;
+// The filter's constants in its arithmetic E (see the header comment): double, K =
+// 2·gamma(3), eta = 2^-1022; float, K = 2·gamma_f(4), eta = 2^-126.
+template <class E> struct Bound;
+template <> struct Bound<double> {
+    static constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022;
+};
+template <> struct Bound<float> {
+    static constexpr float K = 2 * gamma<float>(4), eta = 0x1p-126f;
+};
 
-// The lanes whose six bounds are finite with lo <= hi on every axis (the rest are empty
-// slots): |lo|, |hi| <= the largest finite T and lo <= hi, all false on a NaN. In E
-// (double for the filter, T for fast), from the packet's T values.
+// Empty slots. On a parallel axis, the lanes whose two bounds are finite with lo <= hi:
+// |lo|, |hi| <= the largest finite T and lo <= hi, all false on a NaN (box_ok, in E:
+// double or float, from the packet's T values). On the other axes lo <= hi alone: an
+// infinite bound makes its slab value infinite (1/d is finite and nonzero there), which
+// the lane's probe catches (sum - sum is NaN), and a lane that fails the probe is an
+// empty slot in fast mode and goes to the scalar query, which finds it invalid, in the
+// other two.
 template <class E, int W, class B, class T>
 RAYPROOF_ALWAYS_INLINE simd::Mask<E, W, B> box_ok(const simd::Vec<E, W, B>& lo, const simd::Vec<E, W, B>& hi) {
     using V = simd::Vec<E, W, B>;
@@ -123,11 +143,22 @@ RAYPROOF_ALWAYS_INLINE simd::Mask<E, W, B> box_ok(const simd::Vec<E, W, B>& lo, 
     return (lo <= hi) & (abs(lo) <= big) & (abs(hi) <= big);
 }
 
-// Per ray: 0 an axis with 1/d normal, 1 parallel (d == ±0), 2 |d| >= 2^1022 (double
-// only: 1/d subnormal).
-template <class T> RAYPROOF_ALWAYS_INLINE int axis_kind(const PreparedRay<T>& pr, int i) {
+// The reciprocal the filter in E uses: rinv_i = fl(1/d_i) in double, inv_i =
+// fl_float(rinv_i) in float.
+template <class E, class T> RAYPROOF_ALWAYS_INLINE E reciprocal(const PreparedRay<T>& pr, int i) {
+    if constexpr (std::is_same_v<E, double>) return pr.rinv(i);
+    else return pr.inv(i);
+}
+// Per ray and arithmetic E: 0 an axis whose reciprocal in E is normal and finite, 1
+// parallel (d == ±0), 2 otherwise (double: |d| >= 2^1022; float: |d| < 2^-128 or |d| >
+// 2^126).
+template <class E, class T> RAYPROOF_ALWAYS_INLINE int axis_kind(const PreparedRay<T>& pr, int i) {
     if (pr.ray().direction[i] == 0) return 1;
-    return std::abs(pr.rinv(i)) >= std::numeric_limits<double>::min() ? 0 : 2;
+    const E a = std::abs(reciprocal<E>(pr, i));
+    return a >= std::numeric_limits<E>::min() && a <= std::numeric_limits<E>::max() ? 0 : 2;
+}
+template <class E, class T> RAYPROOF_ALWAYS_INLINE bool all_axes_usable(const PreparedRay<T>& pr) {
+    return axis_kind<E>(pr, 0) != 2 && axis_kind<E>(pr, 1) != 2 && axis_kind<E>(pr, 2) != 2;
 }
 
 template <class T, int W> PacketHit<T, W> empty_hit() {
@@ -163,22 +194,27 @@ RAYPROOF_ALWAYS_INLINE auto fast(const PreparedRay<T>& pr, const AabbPacket<T, W
     const Ray<T>& r = pr.ray();
     V enter = V::splat(r.t_min), exit = V::splat(r.t_max), face = V::splat(T(-1));
     M ok = M::all();
+    V sum = V::splat(T(0));
     RAYPROOF_UNROLL3
     for (int i = 0; i < 3; ++i) {
         const V lo = V::load(b.lo[i]), hi = V::load(b.hi[i]), o = V::splat(r.origin[i]);
-        ok = ok & box_ok<T, W, B, T>(lo, hi);
         if (r.direction[i] == 0) {  // parallel: exactly, never 0·inf
-            ok = ok & (lo <= o) & (o <= hi);
+            ok = ok & box_ok<T, W, B, T>(lo, hi) & (lo <= o) & (o <= hi);
             continue;
         }
+        ok = ok & (lo <= hi);
         const bool neg = pr.negative(i);
         const V inv = V::splat(pr.inv(i));
         const V tn = ((neg ? hi : lo) - o) * inv, tf = ((neg ? lo : hi) - o) * inv;
+        sum = sum + (tn + tf);
         if constexpr (Full) face = select(tn > enter, V::splat(T(2 * i + int(neg))), face);
         enter = max(tn, enter);
         exit = min(tf, exit);
     }
-    ok = ok & (enter <= exit);
+    // The probe (see box_ok): an infinite bound gives an infinite slab value, even fused
+    // into the sum (an infinite operand); an overflowed value of a valid box (fast
+    // promises nothing there) drops the lane too.
+    ok = ok & ((sum - sum) == V::splat(T(0))) & (enter <= exit);
     if constexpr (!Full) {
         return ok.bits();
     } else {
@@ -194,46 +230,47 @@ RAYPROOF_ALWAYS_INLINE auto fast(const PreparedRay<T>& pr, const AabbPacket<T, W
     }
 }
 
-// --- the filter in double (conservative and certified) ------------------------------
-template <class B, class T, int W> struct Filtered {
-    using V = simd::Vec<double, W, B>;
-    using M = simd::Mask<double, W, B>;
-    M ok;      // a valid box whose parallel axes hold the origin
+// --- the filter (conservative: in double; certified: in float for float packets, else
+// in double) --------------------------------------------------------------------------
+template <class E, class B, class T, int W> struct Filtered {
+    using V = simd::Vec<E, W, B>;
+    using M = simd::Mask<E, W, B>;
+    M ok;      // lo <= hi, finite on parallel axes, which hold the origin (see box_ok)
     M finite;  // every computed slab value finite
     V m, M_;   // the largest computed entry, the smallest computed exit
     V e_lo, x_hi, face;  // conservative only: per-axis bounds, face code
 };
 
-template <class B, bool Conservative, class T, int W>
-RAYPROOF_ALWAYS_INLINE Filtered<B, T, W> filter(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
-    using V = simd::Vec<double, W, B>;
-    using M = simd::Mask<double, W, B>;
+template <class E, class B, bool Conservative, class T, int W>
+RAYPROOF_ALWAYS_INLINE Filtered<E, B, T, W> filter(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
+    using V = simd::Vec<E, W, B>;
+    using M = simd::Mask<E, W, B>;
     const Ray<T>& r = pr.ray();
-    Filtered<B, T, W> f;
-    const V K = V::splat(kK), eta = V::splat(kEta);
+    Filtered<E, B, T, W> f;
+    const V K = V::splat(Bound<E>::K), eta = V::splat(Bound<E>::eta);
     f.ok = M::all();
-    f.m = V::splat(-inf<double>);
-    f.M_ = V::splat(inf<double>);
-    f.e_lo = V::splat(double(r.t_min));
-    f.x_hi = V::splat(double(r.t_max));
-    f.face = V::splat(-1.0);
-    V sum = V::splat(0.0);
+    f.m = V::splat(-inf<E>);
+    f.M_ = V::splat(inf<E>);
+    f.e_lo = V::splat(E(r.t_min));
+    f.x_hi = V::splat(E(r.t_max));
+    f.face = V::splat(E(-1));
+    V sum = V::splat(E(0));
     RAYPROOF_UNROLL3
     for (int i = 0; i < 3; ++i) {
-        const V lo = V::load(b.lo[i]), hi = V::load(b.hi[i]), o = V::splat(double(r.origin[i]));
-        f.ok = f.ok & box_ok<double, W, B, T>(lo, hi);
+        const V lo = V::load(b.lo[i]), hi = V::load(b.hi[i]), o = V::splat(E(r.origin[i]));
         if (r.direction[i] == 0) {  // parallel: exactly, never 0·inf
-            f.ok = f.ok & (lo <= o) & (o <= hi);
+            f.ok = f.ok & box_ok<E, W, B, T>(lo, hi) & (lo <= o) & (o <= hi);
             continue;
         }
+        f.ok = f.ok & (lo <= hi);
         const bool neg = pr.negative(i);
-        const V inv = V::splat(pr.rinv(i));
+        const V inv = V::splat(reciprocal<E>(pr, i));
         // Class C3 (eft.hpp): the probe and the bounds see these very values.
         const V tn = rounded(((neg ? hi : lo) - o) * inv), tf = rounded(((neg ? lo : hi) - o) * inv);
         sum = sum + (tn + tf);
         if constexpr (Conservative) {
             const V lo_n = tn - (abs(tn) * K + eta), hi_f = tf + (abs(tf) * K + eta);
-            f.face = select(lo_n > f.e_lo, V::splat(double(2 * i + int(neg))), f.face);
+            f.face = select(lo_n > f.e_lo, V::splat(E(2 * i + int(neg))), f.face);
             f.e_lo = max(lo_n, f.e_lo);
             f.x_hi = min(hi_f, f.x_hi);
         } else {
@@ -243,7 +280,7 @@ RAYPROOF_ALWAYS_INLINE Filtered<B, T, W> filter(const PreparedRay<T>& pr, const 
     }
     // sum - sum is 0 when every term is finite (and their sum does not overflow), NaN
     // otherwise: the probe of ray_aabb.hpp.
-    f.finite = (sum - sum) == V::splat(0.0);
+    f.finite = (sum - sum) == V::splat(E(0));
     return f;
 }
 
@@ -251,12 +288,12 @@ template <class B, bool Full, class T, int W>
 RAYPROOF_ALWAYS_INLINE PacketHit<T, W> conservative(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
     PacketHit<T, W> h = empty_hit<T, W>();
     if (!pr.valid()) return h;
-    if (axis_kind(pr, 0) == 2 || axis_kind(pr, 1) == 2 || axis_kind(pr, 2) == 2) {
+    if (!all_axes_usable<double>(pr)) {
         for (int i = 0; i < W; ++i)
             if (valid(b.box(i))) put(h, i, rayproof::intersect(pr, b.box(i), rayproof::conservative));
         return h;
     }
-    const Filtered<B, T, W> f = filter<B, true>(pr, b);
+    const Filtered<double, B, T, W> f = filter<double, B, true>(pr, b);
     const auto hit = f.ok & f.finite & (f.e_lo <= f.x_hi);
     h.mask = hit.bits();
     if constexpr (Full) {
@@ -284,13 +321,13 @@ RAYPROOF_ALWAYS_INLINE PacketHit<T, W> conservative(const PreparedRay<T>& pr, co
 struct Decided {
     std::uint32_t hit, undecided;
 };
-template <class B, class T, int W>
-RAYPROOF_ALWAYS_INLINE Decided certified_filter(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
-    using V = simd::Vec<double, W, B>;
-    const Filtered<B, T, W> f = filter<B, false>(pr, b);
+template <class E, class B, class T, int W>
+RAYPROOF_ALWAYS_INLINE Decided certified_filter_in(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
+    using V = simd::Vec<E, W, B>;
+    const Filtered<E, B, T, W> f = filter<E, B, false>(pr, b);
     const Ray<T>& r = pr.ray();
-    const V K = V::splat(kK), eta = V::splat(kEta);
-    const V tmin = V::splat(double(r.t_min)), tmax = V::splat(double(r.t_max));
+    const V K = V::splat(Bound<E>::K), eta = V::splat(Bound<E>::eta);
+    const V tmin = V::splat(E(r.t_min)), tmax = V::splat(E(r.t_max));
     const V bm = abs(f.m) * K + eta, bM = abs(f.M_) * K + eta;
     const V e_lo = max(f.m - bm, tmin), e_hi = max(f.m + bm, tmin);
     const V x_lo = min(f.M_ - bM, tmax), x_hi = min(f.M_ + bM, tmax);
@@ -300,19 +337,21 @@ RAYPROOF_ALWAYS_INLINE Decided certified_filter(const PreparedRay<T>& pr, const 
     return {hit.bits(), and_not(f.ok, hit | miss).bits()};
 }
 
-template <class T> RAYPROOF_ALWAYS_INLINE bool all_axes_usable(const PreparedRay<T>& pr) {
-    return axis_kind(pr, 0) != 2 && axis_kind(pr, 1) != 2 && axis_kind(pr, 2) != 2;
+// The filter in float for a float packet whose reciprocals are normal floats, else in
+// double where the double reciprocals are normal; otherwise every lane is undecided.
+template <class B, class T, int W>
+RAYPROOF_ALWAYS_INLINE Decided certified_filter(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
+    if constexpr (std::is_same_v<T, float>)
+        if (all_axes_usable<float>(pr)) [[likely]]
+            return certified_filter_in<float, B>(pr, b);
+    if (all_axes_usable<double>(pr)) [[likely]]
+        return certified_filter_in<double, B>(pr, b);
+    return {0, (1u << W) - 1};
 }
 
 template <class B, class T, int W>
 RAYPROOF_ALWAYS_INLINE std::uint32_t certified_verdict(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
     if (!pr.valid()) return 0;
-    if (!all_axes_usable(pr)) [[unlikely]] {
-        std::uint32_t mask = 0;
-        for (int i = 0; i < W; ++i)
-            mask |= std::uint32_t(rayproof::verdict(pr, b.box(i), rayproof::certified) == Verdict::hit) << i;
-        return mask;
-    }
     const Decided d = certified_filter<B>(pr, b);
     std::uint32_t mask = d.hit;
     for (std::uint32_t u = d.undecided; u != 0; u &= u - 1) {
@@ -328,12 +367,8 @@ RAYPROOF_ALWAYS_INLINE PacketHit<T, W> certified_intersect(const PreparedRay<T>&
     if (!pr.valid()) return h;
     // Every proven hit needs its winners' faithful rounding: the scalar query does it,
     // with the undecided lanes.
-    std::uint32_t todo = (1u << W) - 1;
-    if (all_axes_usable(pr)) [[likely]] {
-        const Decided d = certified_filter<B>(pr, b);
-        todo = d.hit | d.undecided;
-    }
-    for (std::uint32_t u = todo; u != 0; u &= u - 1) {
+    const Decided d = certified_filter<B>(pr, b);
+    for (std::uint32_t u = d.hit | d.undecided; u != 0; u &= u - 1) {
         const int i = std::countr_zero(u);
         put(h, i, rayproof::intersect(pr, b.box(i), rayproof::certified));
     }
