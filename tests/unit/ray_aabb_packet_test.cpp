@@ -18,12 +18,15 @@
 // the box moved one ulp either way; boxes at extreme exponents and of denormal size; a
 // double direction with |d_i| >= 2^1022 (the scalar path for every lane); and seeded
 // random packets of hard boxes built around points of the ray. The filter is also
-// checked to decide the clear lanes itself (no scalar fallback for them).
+// checked to decide the clear lanes itself (no scalar fallback for them), in float lanes
+// or, when the float reciprocals are not normal, in double lanes; and the guarded modes
+// are checked to answer alike under every directed rounding mode.
 #include <rayproof/rayproof.hpp>
 
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cfenv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -46,6 +49,11 @@ template <class T, int W> std::string describe(const Ray<T>& r, const AabbPacket
     std::ostringstream os;
     os << std::hexfloat << "ray " << r << " lane " << lane << " box " << p.box(lane);
     return os.str();
+}
+
+template <class T, int W> bool same_packet(const PacketHit<T, W>& a, const PacketHit<T, W>& b) {
+    return a.mask == b.mask && std::memcmp(a.t_enter, b.t_enter, sizeof a.t_enter) == 0 &&
+           std::memcmp(a.t_exit, b.t_exit, sizeof a.t_exit) == 0 && std::memcmp(a.face, b.face, sizeof a.face) == 0;
 }
 
 template <class T, int W, class B, class Mode> void check_backend(const Ray<T>& r, const AabbPacket<T, W>& p, Mode m,
@@ -330,6 +338,56 @@ TYPED_TEST(Packet, FilterDecidesClearLanes) {
                           detail::packet::certified_filter<simd::native>(away, p)}) {
         EXPECT_EQ(d.undecided, 0u);
         EXPECT_EQ(d.hit, 0u);
+    }
+}
+
+// A float ray whose float reciprocal overflows (|d_0| < 2^-128) runs the double filter,
+// which still decides the clear lanes; so does a double ray with |d_0| >= 2^1022 not:
+// every lane goes to the scalar query there.
+TYPED_TEST(Packet, FilterArithmeticFollowsTheReciprocals) {
+    using T = typename TypeParam::type;
+    constexpr int W = TypeParam::width;
+    const AabbPacket<T, W> p = shifted_cubes<T, W>(T(3));
+    if constexpr (std::is_same_v<T, float>) {
+        const PreparedRay<T> pr(Ray<T>{Vec3<T>(T(-5), T(0.3), T(-0.2)), Vec3<T>(T(1), T(0x1p-140), T(0.02))});
+        EXPECT_FALSE((detail::packet::all_axes_usable<float>(pr)));
+        EXPECT_TRUE((detail::packet::all_axes_usable<double>(pr)));
+        for (const auto& d : {detail::packet::certified_filter<simd::portable>(pr, p),
+                              detail::packet::certified_filter<simd::native>(pr, p)}) {
+            EXPECT_EQ(d.undecided, 0u);
+            EXPECT_EQ(d.hit, (1u << W) - 1);
+        }
+        check_packet(pr.ray(), p);
+    } else {
+        const PreparedRay<T> pr(Ray<T>{Vec3<T>(T(-5), T(0.3), T(-0.2)), Vec3<T>(T(0x1p1023), T(0.01), T(0.02))});
+        EXPECT_FALSE((detail::packet::all_axes_usable<double>(pr)));
+        EXPECT_EQ(detail::packet::certified_filter<simd::native>(pr, p).undecided, (1u << W) - 1);
+        check_packet(pr.ray(), p);
+    }
+}
+
+// The certified and conservative lanes answer in the default floating-point environment
+// whatever the caller's: under each directed rounding mode the packets equal the ones
+// computed under round-to-nearest.
+TYPED_TEST(Packet, ForeignRoundingModeIsGuarded) {
+    using T = typename TypeParam::type;
+    constexpr int W = TypeParam::width;
+    const AabbPacket<T, W> p = shifted_cubes<T, W>(T(0.75));
+    const Ray<T> rays[] = {{Vec3<T>(T(-3.1), T(-0.7), T(-2.3)), Vec3<T>(T(0.9), T(0.3), T(0.7))},
+                           {Vec3<T>(0, 2, 0), Vec3<T>(1, -1, 0)},
+                           {Vec3<T>(T(9.3), T(2.7), T(2.3)), Vec3<T>(T(-0.9), T(-0.35), T(-0.4))}};
+    for (const Ray<T>& r : rays) {
+        const PreparedRay<T> pr(r);
+        const PacketHit<T, W> c = intersect(pr, p, certified), k = intersect(pr, p, conservative);
+        for (int mode : {FE_UPWARD, FE_DOWNWARD, FE_TOWARDZERO}) {
+            ASSERT_EQ(std::fesetround(mode), 0);
+            const PacketHit<T, W> c2 = intersect(pr, p, certified), k2 = intersect(pr, p, conservative);
+            const std::uint32_t v2 = verdict(pr, p, certified);
+            std::fesetround(FE_TONEAREST);
+            EXPECT_TRUE(same_packet(c, c2)) << "certified, rounding mode " << mode;
+            EXPECT_TRUE(same_packet(k, k2)) << "conservative, rounding mode " << mode;
+            EXPECT_EQ(v2, c.mask);
+        }
     }
 }
 

@@ -25,7 +25,8 @@
 // Modes:     fast — in T with the prepared reciprocals inv_i = fl_T(1/d_i): each slab
 //            value (p - o)·inv is the exact one times (1+δ), |δ| <= gamma(3) (T = double:
 //            gamma(2)) while nothing over- or underflows; one mask, no promise beyond
-//            the empty slots, invalid rays and parallel axes above.
+//            the empty slots, invalid rays and parallel axes above (a lane whose slab
+//            values overflow is answered as a miss).
 //            conservative and certified — in double (float input is widened exactly), for
 //            each axis with 1/d_i normal: t~ = fl(fl(p - o)·rinv_i), rinv_i = fl(1/d_i)
 //            (PreparedRay::rinv). (The certified filter of a float packet runs in float
