@@ -19,6 +19,10 @@
 //               2005; the min/max form of tavianator's notes): inv = 1/d, t1 = (lo -
 //               o)·inv, t2 = (hi - o)·inv, t_enter = max(t_enter, min(t1, t2)), t_exit
 //               = min(t_exit, max(t1, t2)); no face (it answers -1). Aabb and Obb.
+//   soa_slab    the same branch-free slab over W boxes stored as structure of arrays
+//               (one box per lane, the reciprocal direction computed once per ray): a
+//               plain loop the compiler vectorizes, the yardstick of the box packets
+//               (ray_aabb_packet.hpp); bit i of its mask is box i's hit.
 // Each is inlined into the timing loop, as the kernel's entry points are: a Hit
 // returned through memory and copied whole would add a store-forwarding stall to one
 // method and not to another.
@@ -29,6 +33,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <utility>
 
 namespace rayproof::bench::baseline {
@@ -76,6 +81,24 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> branchless_slab(const T* o, con
     h.t_enter = t_enter;
     h.t_exit = t_exit;
     return h;
+}
+
+// W boxes in structure of arrays (box i: lo[a][i], hi[a][i]), inv = 1/d per axis.
+template <class T, int W>
+RAYPROOF_ALWAYS_INLINE std::uint32_t soa_slab(const T* o, const T* inv, const T (&lo)[3][W], const T (&hi)[3][W], T t_min,
+                                              T t_max) {
+    std::uint32_t mask = 0;
+    for (int i = 0; i < W; ++i) {
+        T t_enter = t_min, t_exit = t_max;
+        for (int a = 0; a < 3; ++a) {
+            const T t1 = (lo[a][i] - o[a]) * inv[a];
+            const T t2 = (hi[a][i] - o[a]) * inv[a];
+            t_enter = max_(t_enter, min_(t1, t2));
+            t_exit = min_(t_exit, max_(t1, t2));
+        }
+        mask |= std::uint32_t(t_enter <= t_exit) << i;
+    }
+    return mask;
 }
 
 // The ray in an Obb's frame: o'_i = (o - c)·a_i, d'_i = d·a_i, slab [-h_i, h_i].

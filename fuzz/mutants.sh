@@ -19,7 +19,8 @@
 #           -O2 in build/mutants/src/build/suites: bound_witness_test (the bounds'
 #           witnesses, every shape's), then for each shape, ray_<shape>_test,
 #           ray_<shape>_oracle_test, certified_exact_stage_test (that shape's tests) and
-#           ray_<shape>_props, in that order, up to the first failing test;
+#           ray_<shape>_props, in that order (for aabb then ray_aabb_packet_test and
+#           ray_aabb_packet_props), up to the first failing test;
 #   fuzz    the fuzz target from an EMPTY corpus (same sanitizer build as fuzz/ci.sh, in
 #           build/mutants/src/build/fuzz) for at most --seconds, run beside the suites.
 # Only the shapes' targets are rebuilt. One line per mutant (which test failed or
@@ -45,7 +46,7 @@ while [ $# -gt 0 ]; do
     --only) only=",$2,"; shift 2 ;;
     --no-suites) suites=0; shift ;;
     --no-fuzz) fuzz=0; shift ;;
-    -h|--help) sed -n '2,37p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,39p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "unknown argument: $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -156,6 +157,10 @@ suite_lines() {
   echo "tests/oracle/ray_${s}_oracle_test *"
   echo "tests/exact_stage/certified_exact_stage_test *.${S}*"
   echo "tests/props/ray_${s}_props *"
+  if [ "$s" = aabb ]; then  # the box packets (ray_aabb_packet.hpp)
+    echo "tests/unit/ray_aabb_packet_test *"
+    echo "tests/props/ray_aabb_packet_props *"
+  fi
 }
 
 applied=""

@@ -125,7 +125,9 @@ int main(int argc, char** argv) {
     if (n == 0) n = out ? 6 : 200;
     const int f = both<Aabb>("ray_aabb_fuzz", out, n) + both<Obb>("ray_obb_fuzz", out, n) +
                   both<Plane>("ray_plane_fuzz", out, n) + both<Sphere>("ray_sphere_fuzz", out, n) +
-                  run_polyhedron<float>("ray_polyhedron_fuzz", out, n) + run_polyhedron<double>("ray_polyhedron_fuzz", out, n);
+                  run_polyhedron<float>("ray_polyhedron_fuzz", out, n) + run_polyhedron<double>("ray_polyhedron_fuzz", out, n) +
+                  // The box packets decode the Aabb format: the same seeds (written only).
+                  (out ? both<Aabb>("ray_aabb_packet_fuzz", out, n) : 0);
     if (out)
         std::cout << "seed corpora written to " << d.string() << (f ? " with failures" : "") << '\n';
     else

@@ -17,6 +17,7 @@
 #include <rayproof/normal.hpp>
 #include <rayproof/prepared_ray.hpp>
 #include <rayproof/ray_aabb.hpp>
+#include <rayproof/ray_aabb_packet.hpp>
 #include <rayproof/ray_obb.hpp>
 #include <rayproof/ray_plane.hpp>
 #include <rayproof/ray_polyhedron.hpp>

@@ -1,0 +1,139 @@
+// bench/ray_aabb_packet_bench.cpp — the box packets (ray_aabb_packet.hpp) against the
+// branch-free structure-of-arrays slab loop (baselines.hpp, soa_slab) over the same
+// boxes: ns per box test of verdict() in fast and certified mode, float W = 8, double
+// W = 4 and 8, plus the certified intersect().
+//
+// Workload ("uniform"): 1024 packets of boxes with lower corners uniform in [-2, 2]^3
+// and extents uniform in [0, 1.5] per axis, and 1024 prepared rays with origins uniform
+// in [-4, 4]^3, ray k aimed at a point uniform in one of packet k's boxes (box k mod W),
+// so that each packet has a hit and its neighbours are hit at random (the counter
+// hit_rate says how many box tests hit), seeded; ray k is tested against packet k. The reciprocals are computed outside
+// the timed loop for every method (PreparedRay for the packets, 1/d for the baseline).
+// The counter ns_per_box is the time per call divided by W. The machine may be shared:
+// run with --benchmark_repetitions and --benchmark_enable_random_interleaving so that
+// each method's repetitions alternate with the others' and compare the medians.
+#include "baselines.hpp"
+
+#include <rayproof/ray_aabb_packet.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+namespace {
+
+using namespace rayproof;
+
+constexpr int kN = 1024;
+
+template <class T, int W> struct Workload {
+    std::vector<PreparedRay<T>> rays;
+    std::vector<Ray<T>> raw;
+    std::vector<std::array<T, 3>> inv;
+    std::vector<AabbPacket<T, W>> packets;
+
+    Workload() {
+        std::mt19937_64 rng(20261203);
+        std::uniform_real_distribution<double> o(-4, 4), c(-2, 2), e(0, 1.5), f(0, 1);
+        for (int k = 0; k < kN; ++k) {
+            AabbPacket<T, W> p;
+            for (int i = 0; i < W; ++i)
+                for (int a = 0; a < 3; ++a) {
+                    p.lo[a][i] = T(c(rng));
+                    p.hi[a][i] = p.lo[a][i] + T(e(rng));
+                }
+            packets.push_back(p);
+            Vec3<T> from, to;
+            for (int a = 0; a < 3; ++a) {
+                const int j = k % W;
+                from[a] = T(o(rng));
+                to[a] = p.lo[a][j] + T(f(rng)) * (p.hi[a][j] - p.lo[a][j]);
+            }
+            Ray<T> r{from, to - from};
+            raw.push_back(r);
+            rays.emplace_back(r);
+            inv.push_back({T(1) / r.direction[0], T(1) / r.direction[1], T(1) / r.direction[2]});
+        }
+    }
+    static const Workload& get() {
+        static const Workload w;
+        return w;
+    }
+};
+
+template <int W> void set_counters(benchmark::State& state, std::uint64_t hits) {
+    state.counters["ns_per_box"] = benchmark::Counter(double(state.iterations()) * kN * W,
+                                                      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    state.counters["hit_rate"] = double(hits) / (double(state.iterations()) * kN * W);
+}
+
+template <class T, int W> void BM_soa_slab(benchmark::State& state) {
+    const auto& w = Workload<T, W>::get();
+    std::uint64_t hits = 0;
+    for (auto _ : state)
+        for (int k = 0; k < kN; ++k) {
+            const Ray<T>& r = w.raw[std::size_t(k)];
+            const std::uint32_t m = bench::baseline::soa_slab<T, W>(r.origin.data(), w.inv[std::size_t(k)].data(),
+                                                                    w.packets[std::size_t(k)].lo,
+                                                                    w.packets[std::size_t(k)].hi, r.t_min, r.t_max);
+            benchmark::DoNotOptimize(m);
+            hits += std::uint64_t(std::popcount(m));
+        }
+    set_counters<W>(state, hits);
+}
+
+template <class T, int W, class Mode> void BM_packet_verdict(benchmark::State& state) {
+    const auto& w = Workload<T, W>::get();
+    std::uint64_t hits = 0;
+    for (auto _ : state)
+        for (int k = 0; k < kN; ++k) {
+            const std::uint32_t m = verdict(w.rays[std::size_t(k)], w.packets[std::size_t(k)], Mode{});
+            benchmark::DoNotOptimize(m);
+            hits += std::uint64_t(std::popcount(m));
+        }
+    set_counters<W>(state, hits);
+}
+
+// The certified verdict's own work without the entry point's floating-point environment
+// check (detail::packet::certified_verdict: the same lanes and fallback; the default
+// environment holds here): the share of the MXCSR read in the public form's time.
+template <class T, int W> void BM_packet_verdict_certified_unguarded(benchmark::State& state) {
+    const auto& w = Workload<T, W>::get();
+    std::uint64_t hits = 0;
+    for (auto _ : state)
+        for (int k = 0; k < kN; ++k) {
+            const std::uint32_t m =
+                detail::packet::certified_verdict<detail::simd::native>(w.rays[std::size_t(k)], w.packets[std::size_t(k)]);
+            benchmark::DoNotOptimize(m);
+            hits += std::uint64_t(std::popcount(m));
+        }
+    set_counters<W>(state, hits);
+}
+
+template <class T, int W> void BM_packet_intersect_certified(benchmark::State& state) {
+    const auto& w = Workload<T, W>::get();
+    std::uint64_t hits = 0;
+    for (auto _ : state)
+        for (int k = 0; k < kN; ++k) {
+            const PacketHit<T, W> h = intersect(w.rays[std::size_t(k)], w.packets[std::size_t(k)], certified);
+            benchmark::DoNotOptimize(h);
+            hits += std::uint64_t(std::popcount(h.mask));
+        }
+    set_counters<W>(state, hits);
+}
+
+#define RAYPROOF_PACKET_BENCH(T, W)                                          \
+    BENCHMARK(BM_soa_slab<T, W>);                                            \
+    BENCHMARK(BM_packet_verdict<T, W, fast_t>);                              \
+    BENCHMARK(BM_packet_verdict<T, W, certified_t>);                         \
+    BENCHMARK(BM_packet_verdict_certified_unguarded<T, W>);                  \
+    BENCHMARK(BM_packet_intersect_certified<T, W>);
+RAYPROOF_PACKET_BENCH(float, 8)
+RAYPROOF_PACKET_BENCH(double, 4)
+RAYPROOF_PACKET_BENCH(double, 8)
+
+}  // namespace
+
+BENCHMARK_MAIN();
