@@ -26,6 +26,7 @@
 #include <cstdlib>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 
 namespace rayproof {
 
@@ -65,26 +66,6 @@ template <class T, class Shape, class Mode>
         return detail::query(ray, detail::prepare(shape), mode);
 }
 
-// Batch form: out[i] = intersect(rays[i], shape, mode). The shape is validated and
-// prepared once. Precondition, checked: out.size() == rays.size(); otherwise it throws
-// std::invalid_argument, or, built without exceptions, prints a message on stderr and
-// aborts (detail::batch_size_mismatch).
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-void intersect(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::span<Hit<T>> out) {
-    if (out.size() != rays.size())
-        detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
-    static_cast<void>(mode);  // the tag's type is all the batch needs
-    const auto batch = [](std::span<const Ray<T>> r, const Shape& s, std::span<Hit<T>> o) noexcept {
-        const auto prepared = detail::prepare(s);
-        for (std::size_t i = 0; i < r.size(); ++i) o[i] = detail::query(r[i], prepared, Mode{});
-    };
-    if constexpr (detail::fp_env_guarded<Mode>)
-        if (!detail::fp_env_is_default()) [[unlikely]]
-            return detail::in_established_fp_env(batch, rays, shape, out);
-    batch(rays, shape, out);
-}
-
 namespace detail {
 // The verdict alone, for shapes and modes without a verdict path of their own: the full
 // query's verdict (the rest of its answer is dead code the compiler drops where it can).
@@ -114,24 +95,6 @@ template <class T, class Shape, class Mode>
         return detail::verdict_query(ray, detail::prepare(shape), mode);
 }
 
-// Batch form: out[i] = verdict(rays[i], shape, mode), the shape prepared once.
-// Precondition, checked as in the batch intersect: out.size() == rays.size().
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-void verdict(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::span<Verdict> out) {
-    if (out.size() != rays.size())
-        detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
-    static_cast<void>(mode);  // the tag's type is all the batch needs
-    const auto batch = [](std::span<const Ray<T>> r, const Shape& s, std::span<Verdict> o) noexcept {
-        const auto prepared = detail::prepare(s);
-        for (std::size_t i = 0; i < r.size(); ++i) o[i] = detail::verdict_query(r[i], prepared, Mode{});
-    };
-    if constexpr (detail::fp_env_guarded<Mode>)
-        if (!detail::fp_env_is_default()) [[unlikely]]
-            return detail::in_established_fp_env(batch, rays, shape, out);
-    batch(rays, shape, out);
-}
-
 // --- Prepared rays (prepared_ray.hpp) ---------------------------------------------------
 // The same answers as the Ray forms: in certified mode bit for bit, in conservative mode
 // within the mode's contract. Each shape's query path takes the prepared ray itself
@@ -139,10 +102,10 @@ void verdict(std::span<const Ray<T>> rays, const Shape& shape, Mode mode, std::s
 // prepared), under the same floating-point environment guard as the Ray forms; a shape
 // without such a path answers through its Ray path on the prepared ray's copy.
 namespace detail {
-template <class T, class Shape, class Mode>
-concept PreparedPath = requires(const PreparedRay<T>& r, const Shape& s, Mode m) {
-    { query(r, prepare(s), m) } -> std::same_as<Hit<T>>;
-};
+// The shape's query path takes the ray R itself (always, for a Ray).
+template <class R, class Shape, class Mode>
+concept DirectPath = requires(const R& r, const Shape& s, Mode m) { query(r, prepare(s), m); };
+template <class T, class Shape, class Mode> concept PreparedPath = DirectPath<PreparedRay<T>, Shape, Mode>;
 }  // namespace detail
 
 template <class T, class Shape, class Mode>
@@ -175,46 +138,50 @@ template <class T, class Shape, class Mode>
         return detail::verdict_query(ray, detail::prepare(shape), mode);
 }
 
-// Batch forms over prepared rays: out[i] = intersect(rays[i], shape, mode), the shape
-// prepared once; the same precondition, checked the same way, as the Ray batch forms.
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-void intersect(std::span<const PreparedRay<T>> rays, const Shape& shape, Mode mode, std::span<Hit<T>> out) {
-    if (out.size() != rays.size())
-        detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
-    static_cast<void>(mode);
-    if constexpr (!detail::PreparedPath<T, Shape, Mode>) {
-        for (std::size_t i = 0; i < rays.size(); ++i) out[i] = intersect(rays[i].ray(), shape, Mode{});
+// --- Batch forms ------------------------------------------------------------------------
+// out[i] = intersect(rays[i], shape, mode), or verdict(...), for rays of Ray<T> or of
+// PreparedRay<T> (R). The shape is validated and prepared once. Precondition, checked:
+// out.size() == rays.size(); otherwise it throws std::invalid_argument, or, built without
+// exceptions, prints a message on stderr and aborts (detail::batch_size_mismatch). A
+// shape without a prepared-ray path answers each prepared ray through its Ray form.
+namespace detail {
+template <class R, class T, class Shape, class Mode, class Out, class Query>
+void batch_of(std::span<const R> rays, const Shape& shape, std::span<Out> out, const char* mismatch, Query query_one) {
+    if (out.size() != rays.size()) batch_size_mismatch(mismatch);
+    if constexpr (!DirectPath<R, Shape, Mode>) {
+        for (std::size_t i = 0; i < rays.size(); ++i) out[i] = query_one(rays[i].ray(), shape);
     } else {
-        const auto batch = [](std::span<const PreparedRay<T>> r, const Shape& s, std::span<Hit<T>> o) noexcept {
-            const auto prepared = detail::prepare(s);
-            for (std::size_t i = 0; i < r.size(); ++i) o[i] = detail::query(r[i], prepared, Mode{});
+        const auto batch = [](std::span<const R> r, const Shape& s, std::span<Out> o) noexcept {
+            const auto prepared = prepare(s);
+            for (std::size_t i = 0; i < r.size(); ++i) {
+                if constexpr (std::is_same_v<Out, Verdict>)
+                    o[i] = verdict_query(r[i], prepared, Mode{});
+                else
+                    o[i] = query(r[i], prepared, Mode{});
+            }
         };
-        if constexpr (detail::fp_env_guarded<Mode>)
-            if (!detail::fp_env_is_default()) [[unlikely]]
-                return detail::in_established_fp_env(batch, rays, shape, out);
+        if constexpr (fp_env_guarded<Mode>)
+            if (!fp_env_is_default()) [[unlikely]]
+                return in_established_fp_env(batch, rays, shape, out);
         batch(rays, shape, out);
     }
 }
+}  // namespace detail
 
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-void verdict(std::span<const PreparedRay<T>> rays, const Shape& shape, Mode mode, std::span<Verdict> out) {
-    if (out.size() != rays.size())
-        detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
+template <template <class> class R, class T, class Shape, class Mode>
+    requires detail::RayOrPrepared<R<T>, T> && Answerable<T, Shape, Mode>
+void intersect(std::span<const R<T>> rays, const Shape& shape, Mode mode, std::span<Hit<T>> out) {
+    static_cast<void>(mode);  // the tag's type is all the batch needs
+    detail::batch_of<R<T>, T, Shape, Mode>(rays, shape, out, "rayproof::intersect: out.size() must equal rays.size()",
+                                           [](const Ray<T>& r, const Shape& s) { return intersect(r, s, Mode{}); });
+}
+
+template <template <class> class R, class T, class Shape, class Mode>
+    requires detail::RayOrPrepared<R<T>, T> && Answerable<T, Shape, Mode>
+void verdict(std::span<const R<T>> rays, const Shape& shape, Mode mode, std::span<Verdict> out) {
     static_cast<void>(mode);
-    if constexpr (!detail::PreparedPath<T, Shape, Mode>) {
-        for (std::size_t i = 0; i < rays.size(); ++i) out[i] = verdict(rays[i].ray(), shape, Mode{});
-    } else {
-        const auto batch = [](std::span<const PreparedRay<T>> r, const Shape& s, std::span<Verdict> o) noexcept {
-            const auto prepared = detail::prepare(s);
-            for (std::size_t i = 0; i < r.size(); ++i) o[i] = detail::verdict_query(r[i], prepared, Mode{});
-        };
-        if constexpr (detail::fp_env_guarded<Mode>)
-            if (!detail::fp_env_is_default()) [[unlikely]]
-                return detail::in_established_fp_env(batch, rays, shape, out);
-        batch(rays, shape, out);
-    }
+    detail::batch_of<R<T>, T, Shape, Mode>(rays, shape, out, "rayproof::verdict: out.size() must equal rays.size()",
+                                           [](const Ray<T>& r, const Shape& s) { return verdict(r, s, Mode{}); });
 }
 
 // The same ray traversed backwards: the set { o + s·(-d) : s in [-t_max, -t_min] }.
@@ -234,36 +201,24 @@ template <class T, class Shape>
 concept AnswerableAtRunTime = Answerable<T, Shape, fast_t> && Answerable<T, Shape, conservative_t> &&
                               Answerable<T, Shape, certified_t>;
 
-template <class T, class Shape>
-    requires AnswerableAtRunTime<T, Shape>
-[[nodiscard]] Hit<T> intersect(const Ray<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
+// R is Ray or PreparedRay, in every form below.
+template <template <class> class R, class T, class Shape>
+    requires detail::RayOrPrepared<R<T>, T> && AnswerableAtRunTime<T, Shape>
+[[nodiscard]] Hit<T> intersect(const R<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
     return with_mode(
         mode, [&](auto tag) { return intersect(ray, shape, tag); }, [] { return detail::invalid_hit<T>(); });
 }
 
-template <class T, class Shape>
-    requires AnswerableAtRunTime<T, Shape>
-[[nodiscard]] Verdict verdict(const Ray<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
-    return with_mode(mode, [&](auto tag) { return verdict(ray, shape, tag); }, [] { return Verdict::invalid; });
-}
-
-template <class T, class Shape>
-    requires AnswerableAtRunTime<T, Shape>
-[[nodiscard]] Hit<T> intersect(const PreparedRay<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
-    return with_mode(
-        mode, [&](auto tag) { return intersect(ray, shape, tag); }, [] { return detail::invalid_hit<T>(); });
-}
-
-template <class T, class Shape>
-    requires AnswerableAtRunTime<T, Shape>
-[[nodiscard]] Verdict verdict(const PreparedRay<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
+template <template <class> class R, class T, class Shape>
+    requires detail::RayOrPrepared<R<T>, T> && AnswerableAtRunTime<T, Shape>
+[[nodiscard]] Verdict verdict(const R<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
     return with_mode(mode, [&](auto tag) { return verdict(ray, shape, tag); }, [] { return Verdict::invalid; });
 }
 
 // Batch forms; the same precondition, checked the same way, as the tag forms.
-template <class T, class Shape>
-    requires AnswerableAtRunTime<T, Shape>
-void intersect(std::span<const Ray<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Hit<T>> out) {
+template <template <class> class R, class T, class Shape>
+    requires detail::RayOrPrepared<R<T>, T> && AnswerableAtRunTime<T, Shape>
+void intersect(std::span<const R<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Hit<T>> out) {
     with_mode(
         mode, [&](auto tag) { intersect(rays, shape, tag, out); },
         [&] {
@@ -273,33 +228,9 @@ void intersect(std::span<const Ray<T>> rays, const Shape& shape, RuntimeMode mod
         });
 }
 
-template <class T, class Shape>
-    requires AnswerableAtRunTime<T, Shape>
-void verdict(std::span<const Ray<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Verdict> out) {
-    with_mode(
-        mode, [&](auto tag) { verdict(rays, shape, tag, out); },
-        [&] {
-            if (out.size() != rays.size())
-                detail::batch_size_mismatch("rayproof::verdict: out.size() must equal rays.size()");
-            for (Verdict& v : out) v = Verdict::invalid;
-        });
-}
-
-template <class T, class Shape>
-    requires AnswerableAtRunTime<T, Shape>
-void intersect(std::span<const PreparedRay<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Hit<T>> out) {
-    with_mode(
-        mode, [&](auto tag) { intersect(rays, shape, tag, out); },
-        [&] {
-            if (out.size() != rays.size())
-                detail::batch_size_mismatch("rayproof::intersect: out.size() must equal rays.size()");
-            for (Hit<T>& h : out) h = detail::invalid_hit<T>();
-        });
-}
-
-template <class T, class Shape>
-    requires AnswerableAtRunTime<T, Shape>
-void verdict(std::span<const PreparedRay<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Verdict> out) {
+template <template <class> class R, class T, class Shape>
+    requires detail::RayOrPrepared<R<T>, T> && AnswerableAtRunTime<T, Shape>
+void verdict(std::span<const R<T>> rays, const Shape& shape, RuntimeMode mode, std::span<Verdict> out) {
     with_mode(
         mode, [&](auto tag) { verdict(rays, shape, tag, out); },
         [&] {
