@@ -35,32 +35,42 @@ template <class T, class Shape> bool round_trips(const Ray<T>& ray, const Shape&
     return fuzz::is_double(bytes.data(), bytes.size()) == std::is_same_v<T, double>;
 }
 
-template <class T, class Shape> int run(const std::string& target, const fs::path* dir, int n) {
+// One generator's cases 1..n: each encoded, checked to round trip (round_trip(c, bytes)),
+// and written to DIR/<target>/<float|double>-<generator>-<k> when dir is given. Returns
+// the number of failures.
+template <class T, class Generators, class Encode, class RoundTrip>
+int run_cases(const std::string& target, const fs::path* dir, int n, const Generators& generators, Encode encode,
+              RoundTrip round_trip) {
     int failures = 0;
-    for (const auto& g : gen::generators<T, Shape>()) {
+    for (const auto& g : generators) {
         for (int k = 1; k <= n; ++k) {
             gen::Rng rng{std::uint64_t(k)};
             const auto c = g.make(rng);
-            const auto bytes = fuzz::encode(c.ray, c.shape);
-            if (!round_trips(c.ray, c.shape, bytes)) {
+            const std::vector<std::uint8_t> bytes = encode(c);
+            if (!round_trip(c, bytes)) {
                 std::cerr << target << ": encode/decode round trip fails on " << c << '\n';
                 ++failures;
                 continue;
             }
-            if (dir) {
-                const fs::path d = *dir / target;
-                fs::create_directories(d);
-                const fs::path file = d / (std::string(gen::scalar_name<T>()) + "-" + std::string(g.name) + "-" + std::to_string(k));
-                std::ofstream out(file, std::ios::binary);
-                out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-                if (!out) {
-                    std::cerr << "cannot write " << file << '\n';
-                    ++failures;
-                }
+            if (!dir) continue;
+            const fs::path d = *dir / target;
+            fs::create_directories(d);
+            const fs::path file = d / (std::string(gen::scalar_name<T>()) + "-" + std::string(g.name) + "-" + std::to_string(k));
+            std::ofstream out(file, std::ios::binary);
+            out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+            if (!out) {
+                std::cerr << "cannot write " << file << '\n';
+                ++failures;
             }
         }
     }
     return failures;
+}
+
+template <class T, class Shape> int run(const std::string& target, const fs::path* dir, int n) {
+    return run_cases<T>(
+        target, dir, n, gen::generators<T, Shape>(), [](const auto& c) { return fuzz::encode(c.ray, c.shape); },
+        [](const auto& c, const std::vector<std::uint8_t>& bytes) { return round_trips(c.ray, c.shape, bytes); });
 }
 
 // The polyhedron target's cases: its own byte format (PolyDecoder), the planes compared
@@ -77,31 +87,10 @@ template <class T> bool poly_round_trips(const gen::PolyCase<T>& c, const std::v
 }
 
 template <class T> int run_polyhedron(const std::string& target, const fs::path* dir, int n) {
-    int failures = 0;
-    for (const auto& g : gen::polyhedron_generators<T>()) {
-        for (int k = 1; k <= n; ++k) {
-            gen::Rng rng{std::uint64_t(k)};
-            const auto c = g.make(rng);
-            const auto bytes = fuzz::encode_polyhedron(c.ray, std::span<const Plane<T>>(c.shape.planes));
-            if (!poly_round_trips(c, bytes)) {
-                std::cerr << target << ": encode/decode round trip fails on " << c << '\n';
-                ++failures;
-                continue;
-            }
-            if (dir) {
-                const fs::path d = *dir / target;
-                fs::create_directories(d);
-                const fs::path file = d / (std::string(gen::scalar_name<T>()) + "-" + std::string(g.name) + "-" + std::to_string(k));
-                std::ofstream out(file, std::ios::binary);
-                out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-                if (!out) {
-                    std::cerr << "cannot write " << file << '\n';
-                    ++failures;
-                }
-            }
-        }
-    }
-    return failures;
+    return run_cases<T>(
+        target, dir, n, gen::polyhedron_generators<T>(),
+        [](const auto& c) { return fuzz::encode_polyhedron(c.ray, std::span<const Plane<T>>(c.shape.planes)); },
+        [](const auto& c, const std::vector<std::uint8_t>& bytes) { return poly_round_trips(c, bytes); });
 }
 
 template <template <class> class Shape> int both(const std::string& target, const fs::path* dir, int n) {
