@@ -68,15 +68,6 @@ template <class T, int W> AabbPacket<T, W> packet_of(const Aabb<T>& b, std::uint
     return p;
 }
 
-template <class T, int W> Hit<T> lane(const PacketHit<T, W>& h, int i) {
-    Hit<T> x;
-    x.verdict = ((h.mask >> i) & 1) ? Verdict::hit : Verdict::miss;
-    x.t_enter = h.t_enter[i];
-    x.t_exit = h.t_exit[i];
-    x.face = h.face[i];
-    return x;
-}
-
 template <class T, int W>
 [[noreturn]] void packet_violation(const char* what, const char* mode, const Ray<T>& ray, const AabbPacket<T, W>& p,
                                    int i, const Hit<T>& got, const std::string& other) {
@@ -101,7 +92,7 @@ template <class T, int W, class Mode> void check_packet_mode(const Ray<T>& ray, 
     for (int i = 0; i < W; ++i) {
         const Aabb<T> box = p.box(i);
         const oracle::Exact<T> ex = oracle::exact(ray, box);
-        const Hit<T> x = lane<T, W>(h, i);
+        const Hit<T> x = h.lane(i);
         std::ostringstream os;
         os << "exact:    " << ex;
         if (ex.verdict == Verdict::invalid) {
@@ -128,8 +119,8 @@ template <class T, int W, class Mode> void check_packet_mode(const Ray<T>& ray, 
     if constexpr (std::is_same_v<Mode, certified_t>) {
         const PacketHit<T, W> a = detail::packet_intersect<detail::simd::portable>(pr, p, certified);
         for (int i = 0; i < W; ++i)
-            if (!same_answer(lane<T, W>(a, i), lane<T, W>(h, i)) || ((a.mask ^ h.mask) >> i & 1))
-                packet_violation("portable backend differs from native", "certified", ray, p, i, lane<T, W>(a, i),
+            if (!same_answer(a.lane(i), h.lane(i)) || ((a.mask ^ h.mask) >> i & 1))
+                packet_violation("portable backend differs from native", "certified", ray, p, i, a.lane(i),
                                  "native:   " + std::string(detail::simd::native_name()));
     }
 }

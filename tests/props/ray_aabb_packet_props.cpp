@@ -76,15 +76,6 @@ template <class T, int W, class D> AabbPacket<T, W> packet_of(const D& d) {
     return p;
 }
 
-template <class T, int W> Hit<T> lane(const PacketHit<T, W>& h, int i) {
-    Hit<T> x;
-    x.verdict = ((h.mask >> i) & 1) ? Verdict::hit : Verdict::miss;
-    x.t_enter = h.t_enter[i];
-    x.t_exit = h.t_exit[i];
-    x.face = h.face[i];
-    return x;
-}
-
 template <class T, int W> std::string lane_text(const Ray<T>& r, const AabbPacket<T, W>& p, int i) {
     std::ostringstream os;
     os << std::hexfloat << "lane " << i << " of W = " << W << ": ray " << r << " box " << p.box(i)
@@ -109,7 +100,7 @@ Failure judge_lanes(const D& d, Mode m, Extra extra, std::uint64_t* wrong = null
     for (int i = 0; i < W; ++i) {
         const Aabb<T> box = p.box(i);
         const auto e = oracle::exact(r, box);
-        const Hit<T> x = lane<T, W>(h, i);
+        const Hit<T> x = h.lane(i);
         if (e.verdict == Verdict::invalid) {
             if (x.verdict != Verdict::miss || x.t_enter != 0 || x.t_exit != 0 || x.face != -1) {
                 os << mode_name(m) << ": empty slot or invalid ray answered " << x << "; " << lane_text(r, p, i);
@@ -166,10 +157,10 @@ TYPED_TEST(PacketProps, CertifiedLanesExactAndEqualScalar) {
         const PacketHit<T, W> a = detail::packet_intersect<detail::simd::portable>(pr, p, certified),
                               b = detail::packet_intersect<detail::simd::native>(pr, p, certified);
         for (int i = 0; i < W; ++i)
-            if (!props::identical(lane<T, W>(a, i), lane<T, W>(b, i))) {
+            if (!props::identical(a.lane(i), b.lane(i))) {
                 std::ostringstream os;
-                os << "portable " << lane<T, W>(a, i) << " != native (" << detail::simd::native_name() << ") "
-                   << lane<T, W>(b, i) << "; " << lane_text(r, p, i);
+                os << "portable " << a.lane(i) << " != native (" << detail::simd::native_name() << ") "
+                   << b.lane(i) << "; " << lane_text(r, p, i);
                 return os.str();
             }
         if (detail::packet_verdict<detail::simd::portable>(pr, p, certified) != b.mask)

@@ -70,6 +70,9 @@ template <class T, int W, class B, class Mode> void check_backend(const Ray<T>& 
         const Aabb<T> box = p.box(i);
         const Hit<T> c = intersect(r, box, certified);
         const bool bit = (v >> i) & 1;
+        const Hit<T> x = h.lane(i);  // the lane as a Hit: the packet's own fields
+        EXPECT_EQ(x.verdict, ((h.mask >> i) & 1) ? Verdict::hit : Verdict::miss);
+        EXPECT_TRUE(same_bits(x.t_enter, h.t_enter[i]) && same_bits(x.t_exit, h.t_exit[i]) && x.face == h.face[i]);
         if (c.verdict == Verdict::invalid) {
             EXPECT_FALSE(bit) << "empty slot or invalid ray: " << describe(r, p, i);
             continue;

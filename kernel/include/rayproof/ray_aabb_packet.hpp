@@ -114,6 +114,16 @@ template <class T, int W> struct PacketHit {
     T t_enter[W];
     T t_exit[W];
     int face[W];
+
+    // Lane i's answer as a Hit (hit or miss; a packet has no invalid lane).
+    [[nodiscard]] Hit<T> lane(int i) const noexcept {
+        Hit<T> h;
+        h.verdict = ((mask >> i) & 1u) ? Verdict::hit : Verdict::miss;
+        h.t_enter = t_enter[i];
+        h.t_exit = t_exit[i];
+        h.face = face[i];
+        return h;
+    }
 };
 
 namespace detail {
