@@ -83,6 +83,7 @@
 #include <rayproof/types.hpp>
 
 #include <bit>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -92,8 +93,8 @@ namespace rayproof {
 // lo[2][i]), hi likewise. W = 4 or 8.
 template <class T, int W> struct AabbPacket {
     static_assert(is_scalar_v<T> && (W == 4 || W == 8), "AabbPacket<T, W>: T float or double, W 4 or 8");
-    T lo[3][W];
-    T hi[3][W];
+    T lo[3][std::size_t(W)];
+    T hi[3][std::size_t(W)];
 
     // Lane i as a box.
     [[nodiscard]] Aabb<T> box(int i) const {
@@ -111,9 +112,9 @@ template <class T, int W> struct AabbPacket {
 // The answer per lane: bit i of mask is lane i's hit; the fields as in Hit<T>.
 template <class T, int W> struct PacketHit {
     std::uint32_t mask;
-    T t_enter[W];
-    T t_exit[W];
-    int face[W];
+    T t_enter[std::size_t(W)];
+    T t_exit[std::size_t(W)];
+    int face[std::size_t(W)];
 
     // Lane i's answer as a Hit (hit or miss; a packet has no invalid lane).
     [[nodiscard]] Hit<T> lane(int i) const noexcept {
@@ -234,7 +235,7 @@ RAYPROOF_ALWAYS_INLINE auto fast(const PreparedRay<T>& pr, const AabbPacket<T, W
         const V zero = V::splat(T(0));
         select(ok, enter, zero).store(h.t_enter);
         select(ok, exit, zero).store(h.t_exit);
-        T f[W];
+        T f[std::size_t(W)];
         select(ok, face, V::splat(T(-1))).store(f);
         for (int i = 0; i < W; ++i) h.face[i] = int(f[i]);
         return h;
@@ -308,7 +309,7 @@ RAYPROOF_ALWAYS_INLINE PacketHit<T, W> conservative(const PreparedRay<T>& pr, co
     const auto hit = f.ok & f.finite & (f.e_lo <= f.x_hi);
     h.mask = hit.bits();
     if constexpr (Full) {
-        double lo[W], hi[W], face[W];
+        double lo[std::size_t(W)], hi[std::size_t(W)], face[std::size_t(W)];
         f.e_lo.store(lo);
         f.x_hi.store(hi);
         f.face.store(face);

@@ -22,6 +22,7 @@
 #include <rayproof/detail/float_util.hpp>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
@@ -227,7 +228,7 @@ template <class T, int W, class B> struct Vec {
     using C = Chunk<T, chunk_lanes<T, W, B>()>;
     static constexpr int n = W / C::lanes;
     static_assert(W % C::lanes == 0);
-    typename C::reg r[n];
+    typename C::reg r[std::size_t(n)];
 
     static RAYPROOF_ALWAYS_INLINE Vec load(const T* p) {
         Vec v;
@@ -255,7 +256,7 @@ template <class T, int W, class B> struct Vec {
 template <class T, int W, class B> struct Mask {
     using C = typename Vec<T, W, B>::C;
     static constexpr int n = Vec<T, W, B>::n;
-    typename C::mreg r[n];
+    typename C::mreg r[std::size_t(n)];
 
     static RAYPROOF_ALWAYS_INLINE Mask all() {
         Mask m;
