@@ -1,6 +1,7 @@
 // normal(shape, hit, ray): exact unit axis vectors from the face id for boxes (every
 // face, both sides, corners resolved by the tie rule), normalized stored columns for
-// Obb, the radial direction for spheres, the side facing the ray for planes, and the
+// Obb, the radial direction for spheres, the side facing the ray for planes, the entry
+// plane's outward unit normal for convex polyhedra, and the
 // zero vector when there is no entry face (ray starting inside) or no hit. reversed()
 // gives the exit face of a ray that starts inside.
 #include "unit_support.hpp"
@@ -43,6 +44,31 @@ TYPED_TEST(Normal, BoxFacesAreExactAxes) {
     EXPECT_EQ(normal(box, exit, back), v<T>(0, 1, 0));
     const Ray<T> away{v<T>(0, 4, 0), v<T>(0, 1, 0)};
     EXPECT_EQ(normal(box, intersect(away, box, fast), away), Vec3<T>::Zero());
+}
+
+// A polyhedron: the entry plane's stored normal made unit, pointing out (here a box
+// tilted in its planes' scale: normals 2·e_i and -3·e_i), zero from inside and on a miss.
+TYPED_TEST(Normal, PolyhedronUsesTheEntryPlane) {
+    using T = TypeParam;
+    const Plane<T> planes[6] = {{v<T>(-3, 0, 0), T(3)}, {v<T>(2, 0, 0), T(2)}, {v<T>(0, -3, 0), T(3)},
+                                {v<T>(0, 2, 0), T(2)},  {v<T>(0, 0, -3), T(3)}, {v<T>(0, 0, 2), T(2)}};
+    const ConvexPolyhedron<T> poly{planes};
+    const Aabb<T> box{v<T>(-1, -1, -1), v<T>(1, 1, 1)};
+    for (int a = 0; a < 3; ++a)
+        for (int s : {-1, 1}) {
+            Vec3<T> o = Vec3<T>::Zero(), d = Vec3<T>::Zero();
+            o[a] = T(4 * s);
+            d[a] = T(-s);
+            const Ray<T> r{o, d};
+            const Hit<T> h = intersect(r, poly, certified);
+            ASSERT_TRUE(h);
+            EXPECT_EQ(h.face, 2 * a + (s > 0));
+            EXPECT_EQ(normal(poly, h, r), normal(box, intersect(r, box, certified), r)) << r;
+        }
+    const Ray<T> inside{v<T>(0, 0, 0), v<T>(0, 1, 0)};
+    EXPECT_EQ(normal(poly, intersect(inside, poly, certified), inside), Vec3<T>::Zero());
+    const Ray<T> away{v<T>(0, 4, 0), v<T>(0, 1, 0)};
+    EXPECT_EQ(normal(poly, intersect(away, poly, certified), away), Vec3<T>::Zero());
 }
 
 TYPED_TEST(Normal, ObbUsesTheNormalizedColumn) {

@@ -3,8 +3,8 @@
 // cases (general, grazing, near grazing, parallel, on the boundary, extreme, ...) for
 // every shape, scalar type and mode:
 //   - the error box [p - error, p + error] of surface_point holds a point exactly on the
-//     surface (the sphere, the plane, the entry face's plane; for the Aabb p itself lies
-//     on the face);
+//     surface (the sphere, the plane, the entry face's plane, a polyhedron's entry
+//     plane; for the Aabb p itself lies on the face);
 //   - spawn_origin(sp, +1) lies strictly on the side n faces of the surface and
 //     spawn_origin(sp, -1) strictly on the other (for the sphere: strictly outside the
 //     ball on the outer side), and the whole error box lies strictly behind each;
@@ -164,6 +164,30 @@ template <class T> void check(const Ray<T>& r, const Plane<T>& pl, const Hit<T>&
     EXPECT_EQ(sign_of(affine(pl.normal, back, zero, pl.offset)), -f) << "spawned behind: " << back.transpose();
 }
 
+// A polyhedron: no surface point from inside (face -1); otherwise the error box meets
+// the entry plane, n is that plane's outward unit normal (normal()), and the spawned
+// origins lie strictly outside (+1) and strictly inside (-1) its half-space.
+template <class T> void check(const Ray<T>& r, const ConvexPolyhedron<T>& poly, const Hit<T>& h, Counts& n) {
+    const SurfacePoint<T> sp = surface_point(r, poly, h);
+    if (h.face < 0) {
+        EXPECT_TRUE(sp.n.isZero());
+        EXPECT_TRUE(std::isinf(sp.error[0]) && std::isinf(sp.error[1]) && std::isinf(sp.error[2]));
+        return;
+    }
+    if (!std::isfinite(sp.error[0]) || !std::isfinite(spawn_offset(sp))) return;
+    ++n.checked;
+    const Plane<T>& pl = poly.planes[std::size_t(h.face)];
+    EXPECT_EQ(sp.n, normal(poly, h, r));
+    EXPECT_EQ(facing(pl.normal, sp.n), 1) << "the normal points out of the solid";
+    const Vec3<T> zero = Vec3<T>::Zero();
+    EXPECT_TRUE(box_meets_plane(pl.normal, zero, pl.offset, sp));
+    boxes_behind(sp);
+    const Vec3<T> out = spawn_origin(sp, +1), in = spawn_origin(sp, -1);
+    if (!detail::finite_vec(out) || !detail::finite_vec(in)) return;
+    EXPECT_GT(sign_of(affine(pl.normal, out, zero, pl.offset)), 0) << "spawned outward: " << out.transpose();
+    EXPECT_LT(sign_of(affine(pl.normal, in, zero, pl.offset)), 0) << "spawned inward: " << in.transpose();
+}
+
 template <class T> B dist2_minus_r2(const Sphere<T>& s, const Vec3<T>& q) {
     B d(0.0);
     for (int i = 0; i < 3; ++i) {
@@ -187,6 +211,10 @@ template <class T> void check(const Ray<T>& r, const Sphere<T>& s, const Hit<T>&
     EXPECT_GT(sign_of(dist2_minus_r2(s, out)), 0) << "spawned outward: " << out.transpose();
 }
 
+// The kernel's shape of a case (a polyhedron case owns its planes).
+template <class S> const S& shape_of(const S& s) { return s; }
+template <class T> ConvexPolyhedron<T> shape_of(const gen::OwnedPolyhedron<T>& p) { return p.view(); }
+
 constexpr int kCasesPerGenerator = 400;
 
 template <class T, class Shape, class Mode> void check_shape(Mode m) {
@@ -196,9 +224,10 @@ template <class T, class Shape, class Mode> void check_shape(Mode m) {
     for (const auto& g : gen::generators<T, Shape>()) {
         for (int i = 0; i < kCasesPerGenerator; ++i) {
             const gen::Case<T, Shape> c = g.make(rng);
-            const Hit<T> h = intersect(c.ray, c.shape, m);
+            const auto shape = shape_of(c.shape);
+            const Hit<T> h = intersect(c.ray, shape, m);
             if (!h) {
-                const SurfacePoint<T> sp = surface_point(c.ray, c.shape, h);
+                const SurfacePoint<T> sp = surface_point(c.ray, shape, h);
                 ASSERT_TRUE(sp.n.isZero());
                 ASSERT_TRUE(std::isinf(sp.error[0]) && std::isinf(sp.error[1]) && std::isinf(sp.error[2]));
                 continue;
@@ -207,11 +236,11 @@ template <class T, class Shape, class Mode> void check_shape(Mode m) {
             std::ostringstream what;
             what << mode_name(m) << ' ' << c << ' ' << h;
             SCOPED_TRACE(what.str());
-            check(c.ray, c.shape, h, n);
+            check(c.ray, shape, h, n);
             // The exit point through the reversed ray.
             const Ray<T> rev = reversed(c.ray);
-            const Hit<T> hr = intersect(rev, c.shape, m);
-            if (hr) check(rev, c.shape, hr, n);
+            const Hit<T> hr = intersect(rev, shape, m);
+            if (hr) check(rev, shape, hr, n);
             if (::testing::Test::HasFailure()) return;
         }
     }
@@ -237,6 +266,8 @@ TEST(SurfacePoint, PlaneFloat) { check_all_modes<float, Plane<float>>(); }
 TEST(SurfacePoint, PlaneDouble) { check_all_modes<double, Plane<double>>(); }
 TEST(SurfacePoint, SphereFloat) { check_all_modes<float, Sphere<float>>(); }
 TEST(SurfacePoint, SphereDouble) { check_all_modes<double, Sphere<double>>(); }
+TEST(SurfacePoint, PolyhedronFloat) { check_all_modes<float, gen::OwnedPolyhedron<float>>(); }
+TEST(SurfacePoint, PolyhedronDouble) { check_all_modes<double, gen::OwnedPolyhedron<double>>(); }
 
 // A far small sphere: the certified hit point, reprojected, carries a bound of the size
 // of the centre's rounding, and still meets the sphere.

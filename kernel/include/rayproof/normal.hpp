@@ -6,6 +6,8 @@
 // reversed(ray) for the exit face. Sphere: (p - c)/|p - c| at p = o + t_enter·d (for a
 // point sphere, or p == c, the direction opposing the ray). Plane: the unit normal
 // facing the ray's origin side (against d; for a ray lying in the plane, n itself).
+// ConvexPolyhedron: the entry plane's normal made unit (outward: the ray enters through
+// plane k only where n_k·d < 0); face == -1 gives the zero vector, as for the boxes.
 // A hit that is not Verdict::hit gives the zero vector. Unit vectors are made by
 // detail::unit_vector (scaled exactly by a power of two first), so a normal or a
 // direction with tiny, subnormal or huge components still gives a unit vector.
@@ -18,6 +20,7 @@
 #include <rayproof/types.hpp>
 
 #include <cmath>
+#include <cstddef>
 
 namespace rayproof {
 
@@ -79,6 +82,17 @@ template <class T> [[nodiscard]] Vec3<T> normal(const Plane<T>& p, const Hit<T>&
             return n.dot(ray.direction) > 0 ? Vec3<T>(-n) : n;
         },
         p, h, r);
+}
+
+template <class T>
+[[nodiscard]] Vec3<T> normal(const ConvexPolyhedron<T>& poly, const Hit<T>& h, const Ray<T>& r) noexcept {
+    return detail::in_default_fp_env(
+        [](const ConvexPolyhedron<T>& p, const Hit<T>& hit, const Ray<T>&) noexcept -> Vec3<T> {
+            if (hit.verdict != Verdict::hit || hit.face < 0 || std::size_t(hit.face) >= p.planes.size())
+                return Vec3<T>::Zero();
+            return detail::unit_vector<T>(p.planes[std::size_t(hit.face)].normal);
+        },
+        poly, h, r);
 }
 
 }  // namespace rayproof

@@ -10,7 +10,8 @@
 // The promise of surface_point(ray, shape, hit), for a hit (Verdict::hit) of any mode:
 //     there is a point x exactly on the surface with |p_i - x_i| <= error_i, i = 0, 1, 2,
 // where the surface is the sphere |x - c| = r, the plane n·x = offset, and for boxes the
-// plane of the entry face hit.face (for the Aabb, x is even on the face itself). p is
+// plane of the entry face hit.face (for the Aabb, x is even on the face itself), and for
+// a convex polyhedron the entry plane planes[hit.face]. p is
 // the point on the ray at hit.t_enter, o + t·d, pulled onto the surface where the shape
 // allows it, so the bound does not depend on how accurate t is: a fast-mode t gives a
 // bound as true as a certified one, only larger when t is further off. For the exit
@@ -19,8 +20,8 @@
 // n is the unit normal of rayproof::normal (outward for solids; for the plane, facing
 // the ray's origin side), computed from p for the sphere and for a point sphere the
 // direction opposing the ray.
-// No surface point: a hit that is not Verdict::hit, a box hit with face -1 (the ray
-// starts inside: query reversed(ray) for the exit face), or a point or bound that is not
+// No surface point: a hit that is not Verdict::hit, a box or polyhedron hit with face -1
+// (the ray starts inside: query reversed(ray) for the exit face), or a point or bound that is not
 // finite (overflow, or t = ±inf for a ray lying in the plane): error is +inf in every
 // component and n is zero.
 //
@@ -85,6 +86,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <type_traits>
 
@@ -210,6 +212,18 @@ template <class T>
     sp.error = detail::residual_error(a, detail::residual_bound(g, S, 6));
     sp.n = normal(pl, h, r);
     if (!detail::finite_vec(sp.error) || !detail::finite_vec(p)) return detail::no_surface_point(p);
+    return sp;
+}
+
+// ConvexPolyhedron: the plane's surface point on the entry plane planes[face] (the same
+// point and bound), with the polyhedron's outward normal (normal.hpp).
+template <class T>
+[[nodiscard]] SurfacePoint<T> surface_point_body(const Ray<T>& r, const ConvexPolyhedron<T>& poly,
+                                                 const Hit<T>& h) noexcept {
+    if (h.verdict != Verdict::hit || h.face < 0 || std::size_t(h.face) >= poly.planes.size())
+        return detail::no_surface_point(detail::ray_point(r, h.t_enter));
+    SurfacePoint<T> sp = surface_point_body(r, poly.planes[std::size_t(h.face)], h);
+    if (!sp.n.isZero()) sp.n = normal(poly, h, r);
     return sp;
 }
 
