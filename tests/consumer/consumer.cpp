@@ -4,9 +4,10 @@
 // include directory given by plain -I and -Wall -Wextra -Wpedantic -Wconversion
 // -Wsign-conversion -Wshadow -Werror, one of them with -fno-exceptions too.
 //
-// It instantiates every public query — every shape, every mode, float and double, the
-// scalar and the span forms of intersect and verdict — with normal(), reversed(), the io
-// helpers and the version macros, and checks the answers it can know exactly: all inputs
+// It instantiates every public query — every shape (the convex polyhedron included),
+// every mode, float and double, the scalar and the span forms of intersect and verdict,
+// on a Ray and on a PreparedRay, and the packets of boxes — with normal(), reversed(),
+// surface_point(), the io helpers and the version macros, and checks the answers it can know exactly: all inputs
 // below are small integers and halves, so every exact t is representable and a certified
 // answer must equal it. It prints "rayproof <version> consumer: <n> checks passed" and
 // exits 0 only when every check holds.
@@ -118,6 +119,23 @@ template <class T, class Shape, class Mode> void check_mode(const Case<T, Shape>
     check_hit(c, hits[0], mode, "batch");
     check(hits[2].verdict == Verdict::invalid && verdicts[2] == Verdict::invalid, what + ": batch invalid");
 
+    // Prepared rays, scalar and span forms: within the mode's promise, and in certified
+    // mode equal to the Ray's answers bit for bit (checked below).
+    const std::array<rayproof::PreparedRay<T>, 3> prepared{rayproof::PreparedRay<T>(c.hitting),
+                                                           rayproof::PreparedRay<T>(c.missing),
+                                                           rayproof::PreparedRay<T>(zero)};
+    std::array<Hit<T>, 3> prepared_hits{};
+    std::array<Verdict, 3> prepared_verdicts{};
+    rayproof::intersect(std::span<const rayproof::PreparedRay<T>>(prepared), c.shape, mode,
+                        std::span<Hit<T>>(prepared_hits));
+    rayproof::verdict(std::span<const rayproof::PreparedRay<T>>(prepared), c.shape, mode,
+                      std::span<Verdict>(prepared_verdicts));
+    check_hit(c, rayproof::intersect(prepared[0], c.shape, mode), mode, "prepared");
+    check(rayproof::verdict(prepared[0], c.shape, mode) == Verdict::hit, what + ": prepared verdict()");
+    check_hit(c, prepared_hits[0], mode, "prepared batch");
+    check(prepared_hits[2].verdict == Verdict::invalid && prepared_verdicts[2] == Verdict::invalid,
+          what + ": prepared batch invalid");
+
     if constexpr (std::is_same_v<Mode, rayproof::certified_t>) {
         for (std::size_t i = 0; i < rays.size(); ++i) {
             const Hit<T> one = ask(rays[i], c.shape, mode);
@@ -126,6 +144,11 @@ template <class T, class Shape, class Mode> void check_mode(const Case<T, Shape>
                       one.face == hits[i].face,
                   what + ": batch equals scalar bit for bit, element " + std::to_string(i));
             check(verdicts[i] == one.verdict, what + ": batch verdict equals scalar, element " + std::to_string(i));
+            check(std::memcmp(&one.t_enter, &prepared_hits[i].t_enter, sizeof(T)) == 0 &&
+                      std::memcmp(&one.t_exit, &prepared_hits[i].t_exit, sizeof(T)) == 0 &&
+                      one.verdict == prepared_hits[i].verdict && one.face == prepared_hits[i].face &&
+                      prepared_verdicts[i] == one.verdict,
+                  what + ": prepared batch equals the Ray's bit for bit, element " + std::to_string(i));
         }
         check(hits[1].verdict == Verdict::miss, what + ": miss");
 
@@ -174,6 +197,35 @@ template <class T, class Shape> void check_case(const Case<T, Shape>& c) {
     check(os.str().find(" Hit{hit t=[") != std::string::npos, std::string(c.name) + ": operator<< of the hit");
 }
 
+// A packet of W boxes, lane i the cube [-1, 1]^3 moved by 4i along y: the ray along x
+// at y = 0.5 hits lane 0 alone, at t in [3, 5] through face 0; a lane with lo > hi is
+// an empty slot.
+template <class T, int W> void check_packets() {
+    using namespace rayproof;
+    AabbPacket<T, W> p{};
+    for (int i = 0; i < W; ++i) {
+        const T y = T(4 * i);
+        p.set(i, Aabb<T>{v3<T>(-1, double(y) - 1, -1), v3<T>(1, double(y) + 1, 1)});
+    }
+    p.lo[0][W - 1] = T(2);  // lo > hi on x: an empty slot
+    const PreparedRay<T> r(Ray<T>{v3<T>(-4, 0.5, 0), v3<T>(1, 0, 0)});
+    const std::string what = "AabbPacket<" + name_of<T>() + ", " + std::to_string(W) + ">";
+    const auto each = [&](auto mode) {
+        const PacketHit<T, W> h = intersect(r, p, mode);
+        check(h.mask == 1u && verdict(r, p, mode) == h.mask, what + " " + mode_name(mode) + ": mask");
+        if constexpr (std::is_same_v<decltype(mode), certified_t>) {
+            const Hit<T> lane = h.lane(0), scalar = intersect(r, p.box(0), certified);
+            check(lane.t_enter == T(3) && lane.t_exit == T(5) && lane.face == 0 && scalar.face == lane.face,
+                  what + " certified: lane 0 exact");
+        } else if constexpr (std::is_same_v<decltype(mode), conservative_t>) {
+            check(h.t_enter[0] <= T(3) && T(5) <= h.t_exit[0], what + " conservative: encloses");
+        }
+    };
+    each(fast);
+    each(conservative);
+    each(certified);
+}
+
 template <class T> void check_type() {
     using namespace rayproof;
     Mat3<T> turn;  // a quarter turn about z: columns (0, 1, 0), (-1, 0, 0), (0, 0, 1)
@@ -191,6 +243,17 @@ template <class T> void check_type() {
                                  T(6), T(6), -1, -1, v3<T>(0, 0, -1), Ray<T>{v3<T>(1, 1, -1), v3<T>(0, 0, -0.5)}});
     check_case(Case<T, Sphere<T>>{"Sphere", Sphere<T>{v3<T>(1, 2, 3), T(2)}, Ray<T>{v3<T>(1, 2, -7), v3<T>(0, 0, 2)},
                                   T(4), T(6), -1, -1, v3<T>(0, 0, -1), Ray<T>{v3<T>(1, 5, -7), v3<T>(0, 0, 2)}});
+
+    // The box [-1, 1]^3 as six planes (-x, +x, -y, +y, -z, +z): entered through plane 0
+    // at x = -1, left through plane 1.
+    static const Plane<T> cube[6] = {{v3<T>(-1, 0, 0), T(1)}, {v3<T>(1, 0, 0), T(1)}, {v3<T>(0, -1, 0), T(1)},
+                                     {v3<T>(0, 1, 0), T(1)},  {v3<T>(0, 0, -1), T(1)}, {v3<T>(0, 0, 1), T(1)}};
+    check_case(Case<T, ConvexPolyhedron<T>>{"ConvexPolyhedron", ConvexPolyhedron<T>{cube},
+                                            Ray<T>{v3<T>(-4, 0.5, 0), v3<T>(1, 0, 0)}, T(3), T(5), 0, 1,
+                                            v3<T>(-1, 0, 0), Ray<T>{v3<T>(-4, 5, 0), v3<T>(1, 0, 0)}});
+
+    check_packets<T, 4>();
+    check_packets<T, 8>();
 
     // The printed form reproduces bit for bit: 3 and 5 in hexadecimal floating point.
     std::ostringstream os;
