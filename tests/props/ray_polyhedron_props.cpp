@@ -105,7 +105,7 @@ TYPED_TEST(PolyhedronProps, ConservativeNeverMissesAndEncloses) { mode_contract<
 TYPED_TEST(PolyhedronProps, CertifiedEqualsOracle) { mode_contract<TypeParam>(certified); }
 
 // verdict(), scalar and batch (the ray and its reverse), equals the full answer's verdict
-// in every mode, and the certified one is the exact verdict.
+// (in fast mode, its validity), and the certified one is the exact verdict.
 TYPED_TEST(PolyhedronProps, VerdictQueryEqualsFullQuery) {
     using T = TypeParam;
     run_cases<T, Owned<T>>([](const auto& d, auto) -> Failure {
@@ -122,7 +122,15 @@ TYPED_TEST(PolyhedronProps, VerdictQueryEqualsFullQuery) {
                 const Verdict alone = verdict(rays[i], poly, mode);
                 const Verdict prepared = verdict(PreparedRay<T>(rays[i]), poly, mode);
                 const bool certified_wrong = std::is_same_v<decltype(mode), certified_t> && i == 0 && alone != exact;
-                if (alone != full.verdict || batch[i] != full.verdict || prepared != full.verdict || certified_wrong) {
+                // fast promises nothing: its verdict path and full query may round
+                // differently where the compiler contracts them differently
+                // (-ffp-contract=fast), so there they agree in validity only.
+                const auto agree = [&](Verdict v) {
+                    if constexpr (std::is_same_v<decltype(mode), fast_t>)
+                        return (v == Verdict::invalid) == (full.verdict == Verdict::invalid);
+                    return v == full.verdict;
+                };
+                if (!agree(alone) || !agree(batch[i]) || !agree(prepared) || certified_wrong) {
                     std::ostringstream os;
                     os << mode_name(mode) << (i ? " (reversed ray)" : "") << ": verdict() " << alone << ", batch "
                        << batch[i] << ", prepared " << prepared << ", full answer " << full << ", exact " << exact;

@@ -71,7 +71,13 @@ template <class T, class Shape> void check_case(const Ray<T>& r, const Shape& s)
         SCOPED_TRACE(mode_name(mode));
         const Hit<T> hp = intersect(p, s, mode);
         const Hit<T> hr = intersect(r, s, mode);
-        EXPECT_EQ(verdict(p, s, mode), hp.verdict);
+        // fast promises nothing, and its verdict path and full query may round differently
+        // where the compiler contracts them differently (-ffp-contract=fast): there the two
+        // agree in validity only, as in the props suites.
+        if constexpr (std::is_same_v<decltype(mode), fast_t>)
+            EXPECT_EQ(verdict(p, s, mode) == Verdict::invalid, hp.verdict == Verdict::invalid);
+        else
+            EXPECT_EQ(verdict(p, s, mode), hp.verdict);
         EXPECT_TRUE(same_hit(intersect(p, s, runtime(mode)), hp));
         EXPECT_EQ(verdict(p, s, runtime(mode)), hp.verdict);
         EXPECT_EQ(hp.verdict == Verdict::invalid, hr.verdict == Verdict::invalid) << hp << " vs " << hr;
