@@ -7,10 +7,11 @@
 //   - conservative: the prepared answer meets the mode's contract against the exact
 //     oracle, and verdict(prepared) equals intersect(prepared).verdict;
 //   - fast: Verdict::invalid exactly where the ray answers it, and verdict(prepared)
-//     equals intersect(prepared).verdict;
+//     and the batch forms agree with intersect(prepared) in validity (fast promises
+//     nothing, and a contracted build rounds its inlined paths differently);
 //   - every mode answers Verdict::invalid exactly for the inputs the oracle calls invalid;
-//   - the RuntimeMode forms and the batch forms over prepared rays equal the tag's scalar
-//     prepared answers bit for bit.
+//   - the RuntimeMode forms, and in certified and conservative mode the batch forms over
+//     prepared rays, equal the tag's scalar prepared answers bit for bit.
 // By hand: what the prepared ray decides (validity, fl(1/d_i) with the sign of a zero,
 // the signs, reciprocals_normal); -0 and +0 directions with the origin on a slab plane;
 // denormal and huge directions; invalid rays; the prepared ray keeps its own copy of the
@@ -105,8 +106,16 @@ template <class T, class Shape, class Mode> void check_batch(const std::vector<R
     intersect(in, s, mode, std::span<Hit<T>>(hits));
     verdict(in, s, mode, std::span<Verdict>(verdicts));
     for (std::size_t i = 0; i < rays.size(); ++i) {
-        ASSERT_TRUE(same_hit(hits[i], intersect(prepared[i], s, mode))) << mode_name(mode) << " element " << i;
-        ASSERT_EQ(verdicts[i], verdict(prepared[i], s, mode)) << mode_name(mode) << " element " << i;
+        // fast promises nothing, and a batch may round differently from the scalar form
+        // (CONTRACT, batch forms; a contracted build does): there, validity only.
+        if constexpr (std::is_same_v<Mode, fast_t>) {
+            const Verdict v = intersect(prepared[i], s, mode).verdict;
+            ASSERT_EQ(hits[i].verdict == Verdict::invalid, v == Verdict::invalid) << "fast element " << i;
+            ASSERT_EQ(verdicts[i] == Verdict::invalid, v == Verdict::invalid) << "fast element " << i;
+        } else {
+            ASSERT_TRUE(same_hit(hits[i], intersect(prepared[i], s, mode))) << mode_name(mode) << " element " << i;
+            ASSERT_EQ(verdicts[i], verdict(prepared[i], s, mode)) << mode_name(mode) << " element " << i;
+        }
     }
     std::vector<Hit<T>> by_runtime(rays.size());
     intersect(in, s, runtime(mode), std::span<Hit<T>>(by_runtime));
