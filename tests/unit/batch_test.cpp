@@ -7,6 +7,7 @@
 // an interval reaching the certified ends' outer neighbours (the exact ends lie within
 // them). An invalid shape makes every element invalid; a size mismatch is refused with
 // std::invalid_argument.
+#include "same_hit.hpp"
 #include "unit_support.hpp"
 
 #include <cstring>
@@ -23,7 +24,7 @@ TYPED_TEST_SUITE(Batch, Scalars);
 
 namespace {
 
-template <class T> bool same_bits(T a, T b) { return std::memcmp(&a, &b, sizeof(T)) == 0; }
+using rayproof::testing::same_bits;
 
 template <class T> std::vector<Ray<T>> rays(std::uint64_t seed, std::size_t n) {
     std::mt19937_64 rng(seed);

@@ -17,6 +17,7 @@
 // denormal and huge directions; invalid rays; the prepared ray keeps its own copy of the
 // ray (it outlives it); and a prepared ray made under a directed rounding mode or
 // flush-to-zero / denormals-are-zero decides what it decides in the default environment.
+#include "same_hit.hpp"
 #include "seeded.hpp"
 
 #include <rayproof/generators.hpp>
@@ -48,13 +49,8 @@ std::uint64_t base_seed() {
     return s;
 }
 
-template <class T> bool same_bits(T a, T b) { return std::memcmp(&a, &b, sizeof(T)) == 0; }
-
-template <class T> ::testing::AssertionResult same_hit(const Hit<T>& a, const Hit<T>& b) {
-    if (a.verdict == b.verdict && same_bits(a.t_enter, b.t_enter) && same_bits(a.t_exit, b.t_exit) && a.face == b.face)
-        return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << a << " vs " << b;
-}
+using rayproof::testing::same_bits;
+using rayproof::testing::same_hit;
 
 constexpr int kCasesPerGenerator = 250;
 

@@ -21,6 +21,7 @@
 // checked to decide the clear lanes itself (no scalar fallback for them), in float lanes
 // or, when the float reciprocals are not normal, in double lanes; and the guarded modes
 // are checked to answer alike under every directed rounding mode.
+#include "same_hit.hpp"
 #include <rayproof/rayproof.hpp>
 
 #include <gtest/gtest.h>
@@ -40,7 +41,7 @@ namespace simd = rayproof::detail::simd;
 
 namespace {
 
-template <class T> bool same_bits(T a, T b) { return std::memcmp(&a, &b, sizeof(T)) == 0; }
+using rayproof::testing::same_bits;
 
 template <class T> T up(T x) { return std::nextafter(x, std::numeric_limits<T>::infinity()); }
 template <class T> T down(T x) { return std::nextafter(x, -std::numeric_limits<T>::infinity()); }

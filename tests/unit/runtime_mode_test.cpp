@@ -4,6 +4,7 @@
 // (general, log-uniform, grazing, near grazing, parallel, on the boundary, extreme,
 // invalid); a value outside the enumerators is invalid input; to_string and parse_mode
 // are inverse; the scalar forms are noexcept.
+#include "same_hit.hpp"
 #include "seeded.hpp"
 
 #include <rayproof/generators.hpp>
@@ -27,13 +28,8 @@ std::uint64_t base_seed() {
     return s;
 }
 
-template <class T> bool same_bits(T a, T b) { return std::memcmp(&a, &b, sizeof(T)) == 0; }
-
-template <class T> ::testing::AssertionResult same_hit(const Hit<T>& a, const Hit<T>& b) {
-    if (a.verdict == b.verdict && same_bits(a.t_enter, b.t_enter) && same_bits(a.t_exit, b.t_exit) && a.face == b.face)
-        return ::testing::AssertionSuccess();
-    return ::testing::AssertionFailure() << a << " vs " << b;
-}
+using rayproof::testing::same_bits;
+using rayproof::testing::same_hit;
 
 constexpr RuntimeMode every_mode[] = {RuntimeMode::fast, RuntimeMode::conservative, RuntimeMode::certified};
 
