@@ -343,4 +343,46 @@ TYPED_TEST(ClosestOracle, CompareEntryIsTheExactOrder) {
     EXPECT_GT(tally.ties, 300) << "the cases must hold exact ties";
 }
 
+// Degree-8 comparisons at mixed extreme exponents (huge origin and radii, denormal
+// direction components), where the exact stage runs in BigDyadic8 at its widest: the
+// exact stage must give an answer (never its fallback) and it must be the oracle's.
+TYPED_TEST(ClosestOracle, MixedExtremeExponentsAreDecidedExactly) {
+    using T = TypeParam;
+    RAYPROOF_SEED_TRACE(base_seed());
+    auto rng = make_rng();
+    Maker<T> m{rng};
+    constexpr bool dbl = std::is_same_v<T, double>;
+    const int big = dbl ? 999 : 120;        // the spheres' scale, 2^big
+    const int low = dbl ? -1074 : -149;     // the denormals' bottom
+    Tally tally;
+    int decided = 0;
+    for (int k = 0; k < 300; ++k) {
+        Pair<T> c;
+        c.kind = "mixed exponents";
+        const T R = std::ldexp(T(1), big);
+        const T tiny_x = std::ldexp(T(1 + m.pick(7)), low + m.pick(dbl ? 1000 : 100));
+        const T tiny_y = m.pick(2) == 0 ? T(0) : std::ldexp(T(1 + m.pick(7)), low + m.pick(20));
+        c.ray = Ray<T>{Vec3<T>(std::ldexp(T(m.pick(9)), low), -std::ldexp(T(m.pick(5)), low), -2 * R),
+                       Vec3<T>(tiny_x, tiny_y, T(1 + m.pick(3)))};
+        c.a = Sphere<T>{v3<T>(0, 0, 0), R};                         // entry near z = -R
+        const T r = std::ldexp(T(1), big - 1 - m.pick(dbl ? 90 : 20));
+        switch (m.pick(3)) {
+            case 0: c.b = Sphere<T>{Vec3<T>(T(0), T(0), T(-R + r)), r}; break;  // tangent inside at (0,0,-R)
+            case 1: c.b = Sphere<T>{Vec3<T>(T(0), T(0), T(-R - r)), r}; break;  // tangent outside at (0,0,-R), met first
+            default: c.b = Aabb<T>{Vec3<T>(-R, -R, -R), Vec3<T>(R, R, T(-R + r))}; break;  // a face on the tangent plane
+        }
+        if (m.pick(2) == 0) std::swap(c.a, c.b);
+        const PreparedRay<T> pr(c.ray);
+        const Hit<T> ha = detail::intersect_primitive(pr, c.a, certified), hb = detail::intersect_primitive(pr, c.b, certified);
+        if (!ha || !hb) continue;
+        const std::optional<int> s = detail::compare_entry_exact<T>(pr, c.a, ha, c.b, hb);
+        ASSERT_TRUE(s.has_value()) << describe(c);
+        ++decided;
+        if (!check_pair(c, tally)) return;
+    }
+    std::printf("decided %d, past the float filter %d\n", decided, tally.exact_path);
+    EXPECT_GT(decided, 150);
+    EXPECT_GT(tally.exact_path, 50);
+}
+
 }  // namespace

@@ -7,6 +7,11 @@
 // Answer:    std::nullopt when no finite box is given: planes (unbounded), invalid
 //            primitives, and any primitive whose box would overflow to infinity. A BVH
 //            keeps those beside its tree and tests them on every ray, still correct.
+// Shapes:    Aabb: itself. Sphere: center ± radius, each sum stepped outward once. Obb:
+//            center ± Σ_j |minor_kj(A)|·h_j / |det A| (exact numerator and determinant,
+//            the quotient enclosed with a derived margin). ConvexPolyhedron of at most
+//            kMaxBoxedPlanes planes: boundedness decided exactly, then the box of every
+//            three-plane vertex that is not provably outside. Plane: nullopt.
 // Rounding:  every computed bound is rounded outward by the derivation at its code; the
 //            exact bound lies inside the returned one.
 #pragma once
