@@ -7,7 +7,8 @@
 //   - equal exact t through faces of different axes (t = k/3, not representable);
 //   - a box face one or two ulps off an exact entry (the floats equal or adjacent);
 //   - two boxes with coplanar faces; an Obb and a polyhedron on a box's planes, rotated
-//     boxes sharing an entry point;
+//     boxes sharing an entry point; an Obb with integer, non-unit axes whose entry face
+//     lies on a polyhedron's plane, or one ulp off it;
 //   - spheres tangent to one plane at one point, from the same side (equal entries when
 //     the ray passes the point, adjacent otherwise), spheres internally tangent at the
 //     entry point (centers rounded: entries a few ulps apart), a sphere touching a box face;
@@ -107,7 +108,7 @@ template <class T> struct Maker {
     int pick(int n) { return int(std::uniform_int_distribution<int>(0, n - 1)(g)); }
     int small() { return pick(9) - 4; }
     Mat3<T> rotation() {
-        const Eigen::Quaterniond q(uni(-1, 1), uni(-1, 1), uni(-1, 1), uni(-1, 1));
+        const Eigen::Quaterniond q{uni(-1, 1), uni(-1, 1), uni(-1, 1), uni(-1, 1)};
         return q.normalized().toRotationMatrix().cast<T>();
     }
 
@@ -146,7 +147,7 @@ template <class T> struct Maker {
     Pair<T> coplanar() {  // two boxes sharing the plane of their entry face
         Pair<T> c;
         c.kind = "coplanar faces";
-        c.ray = Ray<T>{v3<T>(uni(-1, 1), uni(-1, 1), -5), v3<T>(uni(-1, 1), uni(-1, 1), uni(0.5, 2))};
+        c.ray = Ray<T>{Vec3<T>{T(uni(-1, 1)), T(uni(-1, 1)), T(-5)}, Vec3<T>{T(uni(-1, 1)), T(uni(-1, 1)), T(uni(0.5, 2))}};
         const T z = T(uni(-1, 1));
         c.a = Aabb<T>{v3<T>(-10, -10, z), v3<T>(10, 10, z + 1)};
         c.b = Aabb<T>{v3<T>(-20, -20, z), v3<T>(20, 20, z + T(uni(0, 3)))};
@@ -159,7 +160,7 @@ template <class T> struct Maker {
         Pair<T> c;
         c.kind = "rotated through a point";
         const Vec3<T> p{T(uni(-1, 1)), T(uni(-1, 1)), T(uni(-1, 1))};
-        c.ray = Ray<T>{v3<T>(uni(-1, 1), uni(-1, 1), -6), Vec3<T>::Zero()};
+        c.ray = Ray<T>{Vec3<T>{T(uni(-1, 1)), T(uni(-1, 1)), T(-6)}, Vec3<T>::Zero()};
         c.ray.direction = Vec3<T>(p - c.ray.origin);
         const Mat3<T> R = rotation(), S = rotation();
         // An Obb whose face plane through p faces the ray: center p + R·(h·n) for the axis
@@ -170,7 +171,8 @@ template <class T> struct Maker {
         for (int i = 0; i < 3; ++i)
             for (int s : {-1, 1}) {
                 const Vec3<T> n = (S.col(i) * T(s)).eval();
-                planes.push_back({n, T(n.dot(p) + T(uni(0, 1)) * T(pick(2)))});
+                const T lift = T(uni(0, 1));
+                planes.push_back({n, T(n.dot(p) + lift * T(pick(2)))});
             }
         c.b = c.poly(std::move(planes));
         return c;
@@ -183,7 +185,8 @@ template <class T> struct Maker {
         const T r1 = T(uni(0.1, 3)), r2 = pick(2) == 0 ? T(pick(4) + 1) : T(uni(0.1, 3));
         c.a = Sphere<T>{v3<T>(X, Y, Z + r1), r1};
         c.b = Sphere<T>{v3<T>(X, Y, Z + r2), r2};
-        const Vec3<T> o{T(X + T(uni(-1, 1)) * T(pick(2))), T(Y + T(uni(-1, 1)) * T(pick(2))), T(Z - T(1 + pick(4)))};
+        const T dx = T(uni(-1, 1)), sx = T(pick(2)), dy = T(uni(-1, 1)), sy = T(pick(2));
+        const Vec3<T> o{T(X + dx * sx), T(Y + dy * sy), T(Z - T(1 + pick(4)))};
         c.ray = Ray<T>{o, Vec3<T>(v3<T>(X, Y, Z) - o)};
         if (c.ray.direction.isZero()) c.ray.direction = v3<T>(0, 0, 1);
         return c;
@@ -194,8 +197,8 @@ template <class T> struct Maker {
         c.kind = "internally tangent spheres";
         const Vec3<T> ctr{T(uni(-2, 2)), T(uni(-2, 2)), T(uni(-2, 2))};
         const T r = T(uni(0.5, 2));
-        c.ray = Ray<T>{v3<T>(uni(-1, 1), uni(-1, 1), -8), Vec3<T>::Zero()};
-        c.ray.direction = Vec3<T>(ctr + v3<T>(uni(-0.3, 0.3), uni(-0.3, 0.3), 0) - c.ray.origin);
+        c.ray = Ray<T>{Vec3<T>{T(uni(-1, 1)), T(uni(-1, 1)), T(-8)}, Vec3<T>::Zero()};
+        c.ray.direction = Vec3<T>(ctr + Vec3<T>{T(uni(-0.3, 0.3)), T(uni(-0.3, 0.3)), T(0)} - c.ray.origin);
         c.a = Sphere<T>{ctr, r};
         // The entry point p, approximately; sphere b: center p + μ(ctr − p), radius μr.
         const Eigen::Vector3d o = c.ray.origin.template cast<double>(), d = c.ray.direction.template cast<double>(),
@@ -217,7 +220,7 @@ template <class T> struct Maker {
         c.b = Sphere<T>{v3<T>(X, Y, Z - r), r};
         c.ray = Ray<T>{v3<T>(X, Y, Z + T(1 + pick(4))), v3<T>(0, 0, -1)};
         if (pick(2) == 0) {  // oblique through the contact point
-            c.ray.origin += v3<T>(uni(-1, 1), uni(-1, 1), 0);
+            c.ray.origin += Vec3<T>{T(uni(-1, 1)), T(uni(-1, 1)), T(0)};
             c.ray.direction = Vec3<T>(v3<T>(X, Y, Z) - c.ray.origin);
         }
         return c;
@@ -228,8 +231,8 @@ template <class T> struct Maker {
         c.kind = "face at a rounded root";
         const Vec3<T> ctr{T(uni(-1, 1)), T(uni(-1, 1)), T(uni(2, 5))};
         const T r = T(uni(0.3, 1.5));
-        c.ray = Ray<T>{v3<T>(uni(-0.2, 0.2), uni(-0.2, 0.2), 0), v3<T>(0, 0, 1)};
-        if (pick(2) == 0) c.ray.direction = v3<T>(uni(-0.1, 0.1), uni(-0.1, 0.1), 1);
+        c.ray = Ray<T>{Vec3<T>{T(uni(-0.2, 0.2)), T(uni(-0.2, 0.2)), T(0)}, v3<T>(0, 0, 1)};
+        if (pick(2) == 0) c.ray.direction = Vec3<T>{T(uni(-0.1, 0.1)), T(uni(-0.1, 0.1)), T(1)};
         c.a = Sphere<T>{ctr, r};
         const Hit<T> h = intersect(c.ray, std::get<Sphere<T>>(c.a), certified);
         T z = h ? h.t_enter * c.ray.direction[2] : ctr[2] - r;
@@ -242,10 +245,14 @@ template <class T> struct Maker {
     Pair<T> starts_inside() {  // t_min entries against a crossing at t_min
         Pair<T> c;
         c.kind = "t_min entries";
-        c.ray = Ray<T>{v3<T>(small(), small(), small()), v3<T>(1 + pick(3), 1, 2), T(pick(3) - 1)};
+        c.ray = Ray<T>{Vec3<T>{T(small()), T(small()), T(small())}, v3<T>(1 + pick(3), 1, 2), T(pick(3) - 1)};
         const Vec3<T> at = (c.ray.origin + c.ray.direction * c.ray.t_min).eval();  // exact: small integers
         switch (pick(4)) {
-            case 0: c.a = Sphere<T>{at, T(uni(0, 1)) * T(pick(2))}; break;
+            case 0: {
+                const T r = T(uni(0, 1));
+                c.a = Sphere<T>{at, r * T(pick(2))};
+                break;
+            }
             case 1: c.a = Aabb<T>{Vec3<T>(at - v3<T>(1, 1, 1)), Vec3<T>(at + v3<T>(1, 1, 1))}; break;
             case 2: c.a = Plane<T>{v3<T>(1, -1, 0), T(at[0] - at[1])}; break;  // through the point at t_min: crossed there, or holding the ray (d_x = 1)
             default: c.a = Aabb<T>{at, Vec3<T>(at + v3<T>(1, 1, 1))}; break;                       // entered at t_min through a face
@@ -256,8 +263,32 @@ template <class T> struct Maker {
         return c;
     }
 
+    Pair<T> obb_on_plane() {  // an Obb's face (integer axes, not unit) against the same or a shifted half-space
+        Pair<T> c;
+        c.kind = "obb face on a plane";
+        const Vec3<T> ctr{T(small()), T(small()), T(small())};
+        Mat3<T> A;
+        const int p = 1 + pick(3), q = 1 + pick(3);
+        A << T(p), T(-q), 0, T(q), T(p), 0, 0, 0, T(1 + pick(2));  // columns (p,q,0), (-q,p,0), (0,0,s)
+        const Vec3<T> h{T(1 + pick(4)), T(1 + pick(4)), T(1 + pick(4))};
+        c.a = Obb<T>{ctr, A, h};
+        // Face side 0 of axis 0: a0·x = a0·ctr − h0 =: K (small integers, exact).
+        const Vec3<T> a0 = A.col(0);
+        T off = -(a0.dot(ctr) - h[0]);  // the half-space −a0·x <= off is a0·x >= K
+        if (const int s = pick(3) - 1; s != 0) off = s > 0 ? std::nextafter(off, T(1000)) : std::nextafter(off, T(-1000));
+        c.b = c.poly({Plane<T>{Vec3<T>(-a0), off}, Plane<T>{a0, T(1000)}, Plane<T>{v3<T>(0, 1, 0), T(1000)},
+                      Plane<T>{v3<T>(0, -1, 0), T(1000)}, Plane<T>{v3<T>(0, 0, 1), T(1000)}, Plane<T>{v3<T>(0, 0, -1), T(1000)}});
+        const T back = T(3 + pick(3));
+        const Vec3<T> o = (ctr - a0 * back + Vec3<T>{T(small()), T(small()), T(small())}).eval();
+        c.ray = Ray<T>{o, Vec3<T>(ctr + Vec3<T>{T(pick(3) - 1), T(pick(3) - 1), T(pick(3) - 1)} - o)};
+        if (c.ray.direction.isZero()) c.ray.direction = a0;
+        if (pick(2) == 0) std::swap(c.a, c.b);
+        return c;
+    }
+
     Pair<T> any() {
-        switch (pick(9)) {
+        switch (pick(10)) {
+            case 9: return obb_on_plane();
             case 0: return equal_thirds();
             case 1: return ulps_off();
             case 2: return coplanar();
@@ -360,9 +391,11 @@ TYPED_TEST(ClosestOracle, MixedExtremeExponentsAreDecidedExactly) {
         Pair<T> c;
         c.kind = "mixed exponents";
         const T R = std::ldexp(T(1), big);
-        const T tiny_x = std::ldexp(T(1 + m.pick(7)), low + m.pick(dbl ? 1000 : 100));
-        const T tiny_y = m.pick(2) == 0 ? T(0) : std::ldexp(T(1 + m.pick(7)), low + m.pick(20));
-        c.ray = Ray<T>{Vec3<T>(std::ldexp(T(m.pick(9)), low), -std::ldexp(T(m.pick(5)), low), -2 * R),
+        const T mx = T(1 + m.pick(7));
+        const T tiny_x = std::ldexp(mx, low + m.pick(dbl ? 1000 : 100));
+        const T my = m.pick(2) == 0 ? T(0) : T(1 + m.pick(7));
+        const T tiny_y = std::ldexp(my, low + m.pick(20));
+        c.ray = Ray<T>{Vec3<T>{std::ldexp(T(m.pick(9)), low), -std::ldexp(T(m.pick(5)), low), -2 * R},
                        Vec3<T>(tiny_x, tiny_y, T(1 + m.pick(3)))};
         c.a = Sphere<T>{v3<T>(0, 0, 0), R};                         // entry near z = -R
         const T r = std::ldexp(T(1), big - 1 - m.pick(dbl ? 90 : 20));

@@ -308,7 +308,7 @@ template <class T> struct Gen {
         }
     }
     Mat3<T> rotation() {
-        const Eigen::Quaterniond q(uni(-1, 1), uni(-1, 1), uni(-1, 1), uni(-1, 1));
+        const Eigen::Quaterniond q{uni(-1, 1), uni(-1, 1), uni(-1, 1), uni(-1, 1)};
         return q.normalized().toRotationMatrix().cast<T>();
     }
     Primitive<T> primitive(Scene<T>& sc) {
@@ -431,7 +431,8 @@ template <class T> void expect_box_holds(const Primitive<T>& p, Gen<T>& gen, dou
     for (int k = 0; k < 60; ++k) {
         // From a point outside the box towards a point near (or inside) the solid.
         const Vec3<T> from = (mid + gen.unit() * T(2) * radius).eval();
-        const Vec3<T> to = (mid + gen.unit() * T(gen.uni(0, 0.6)) * radius).eval();
+        const Vec3<T> towards = gen.unit();
+        const Vec3<T> to = (mid + towards * T(gen.uni(0, 0.6)) * radius).eval();
         const Ray<T> r{from, Vec3<T>(to - from)};
         if (r.direction.isZero()) continue;
         const PreparedRay<T> pr(r);
@@ -469,25 +470,30 @@ TYPED_TEST(Closest, EnclosingBoxHoldsTheSolid) {
         SCOPED_TRACE("scale 2^" + std::to_string(e));
         for (int k = 0; k < 25; ++k) {
             Scene<T> sc;
+            // Every draw in its own statement, so that every compiler draws the same cases.
             const Vec3<T> c = (gen.point().template cast<double>() * s).template cast<T>();
+            const T radius = T(gen.uni(0, 2) * s);
+            const Mat3<T> R1 = gen.rotation();
+            const Vec3<T> h1{T(gen.uni(0, 2) * s), T(gen.uni(0, 2) * s), T(gen.uni(0, 2) * s)};
+            const Mat3<T> R2 = gen.rotation();
+            const T k0 = T(gen.uni(0.5, 3)), k1 = T(gen.uni(0.5, 3));
+            const Mat3<T> skew = (R2 * Eigen::DiagonalMatrix<T, 3>(k0, k1, T(1)) + Mat3<T>::Identity() * T(0.25)).eval();
+            const Vec3<T> h2{T(gen.uni(0, 2) * s), T(gen.uni(0, 2) * s), T(gen.uni(0, 2) * s)};
+            std::vector<Plane<T>> planes;  // tangent to spheres around c: a bounded polyhedron
+            const int count = 4 + gen.pick(8);
+            for (int i = 0; i < count; ++i) {
+                const Vec3<T> n = gen.unit();
+                planes.push_back({n, T(n.template cast<double>().dot(c.template cast<double>()) + gen.uni(0.5, 2) * s)});
+            }
+            for (const Vec3<T>& n : {v3<T>(1, 1, 1), v3<T>(-1, 1, 1), v3<T>(0, -1, 1), v3<T>(0, 0, -1)})
+                planes.push_back({n, T(n.template cast<double>().dot(c.template cast<double>()) + 2 * s)});
+            const T side = T(gen.uni(0, 2) * s);
             const Primitive<T> prims[] = {
-                Sphere<T>{c, T(gen.uni(0, 2) * s)},
-                Obb<T>{c, gen.rotation(), Vec3<T>{T(gen.uni(0, 2) * s), T(gen.uni(0, 2) * s), T(gen.uni(0, 2) * s)}},
-                // Skewed, unnormalized axes.
-                Obb<T>{c, (gen.rotation() * Eigen::DiagonalMatrix<T, 3>(T(gen.uni(0.5, 3)), T(gen.uni(0.5, 3)), T(1)) +
-                          Mat3<T>::Identity() * T(0.25)).eval(),
-                       Vec3<T>{T(gen.uni(0, 2) * s), T(gen.uni(0, 2) * s), T(gen.uni(0, 2) * s)}},
-                [&]() -> Primitive<T> {  // planes tangent to a sphere around c: a bounded polyhedron
-                    std::vector<Plane<T>> p;
-                    for (int i = 0; i < 4 + gen.pick(8); ++i) {
-                        const Vec3<T> n = gen.unit();
-                        p.push_back({n, T(n.template cast<double>().dot(c.template cast<double>()) + gen.uni(0.5, 2) * s)});
-                    }
-                    for (const Vec3<T>& n : {v3<T>(1, 1, 1), v3<T>(-1, 1, 1), v3<T>(0, -1, 1), v3<T>(0, 0, -1)})
-                        p.push_back({n, T(n.template cast<double>().dot(c.template cast<double>()) + 2 * s)});
-                    return sc.poly(std::move(p));
-                }(),
-                Aabb<T>{c, Vec3<T>(c + Vec3<T>::Constant(T(gen.uni(0, 2) * s)))},
+                Sphere<T>{c, radius},
+                Obb<T>{c, R1, h1},
+                Obb<T>{c, skew, h2},  // skewed, unnormalized axes
+                sc.poly(std::move(planes)),
+                Aabb<T>{c, Vec3<T>(c + Vec3<T>::Constant(side))},
             };
             for (const Primitive<T>& p : prims) {
                 expect_box_holds(p, gen, s);
