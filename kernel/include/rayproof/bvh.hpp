@@ -217,6 +217,33 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_conservative(const PreparedRay<T>&
             }
         return mask;
     }
+    if constexpr (std::is_same_v<T, float>) {
+        // Float trees: the certified packet's float filter (twice the lanes per
+        // register), where every reciprocal is a normal float. Its enclosures
+        // [max(t_min, lo(m)), max(t_min, hi(m))] of the exact latest entry and
+        // [min(t_max, lo(M)), min(t_max, hi(M))] of the exact earliest exit (K =
+        // 2·gamma_f(4), eta = 2^-126, ray_aabb_packet.hpp) leave a lane a possible hit
+        // unless the exit's upper end lies below the entry's lower end (the certified
+        // filter's proven miss): the same expressions, so the same guarantee.
+        if (packet::all_axes_usable<float>(pr)) [[likely]] {
+            using V = simd::Vec<float, W, B>;
+            const packet::Filtered<float, B, T, W> f = packet::filter<float, B, false>(pr, b);
+            const V K = V::splat(packet::Bound<float>::K), eta = V::splat(packet::Bound<float>::eta);
+            const V bm = abs(f.m) * K + eta, bM = abs(f.M_) * K + eta;
+            const V e_lo = max(f.m - bm, V::splat(pr.ray().t_min)), x_hi = min(f.M_ + bM, V::splat(pr.ray().t_max));
+            mask = (f.ok & f.finite & (e_lo <= x_hi)).bits();
+            float lo[std::size_t(W)];
+            e_lo.store(lo);
+            for (int i = 0; i < W; ++i) t[i] = double(lo[i]);
+            for (std::uint32_t u = simd::and_not(f.ok, f.finite).bits(); u != 0; u &= u - 1) {
+                const int i = std::countr_zero(u);
+                const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
+                mask |= std::uint32_t(h.verdict == Verdict::hit) << i;
+                t[i] = double(h.t_enter);
+            }
+            return mask;
+        }
+    }
     const packet::Filtered<double, B, T, W> f = packet::filter<double, B, true>(pr, b);
     mask = (f.ok & f.finite & (f.e_lo <= f.x_hi)).bits();
     f.e_lo.store(t);
