@@ -105,7 +105,7 @@ std::optional<ExactEntry<E>> exact_entry(const Ray<T>& r, const Primitive<T>& p,
         if (h.face < 0) return Entry{};
         const int i = h.face / 2;
         const T bound = h.face % 2 == 0 ? b->lo[i] : b->hi[i];
-        return quotient_entry<E, T>(E(bound) - o[i], d[i]);
+        return quotient_entry<E, T>(E(bound) - o[std::size_t(i)], d[std::size_t(i)]);
     }
     if (const auto* b = std::get_if<Obb<T>>(&p)) {
         if (h.face < 0) return Entry{};
@@ -114,8 +114,8 @@ std::optional<ExactEntry<E>> exact_entry(const Ray<T>& r, const Primitive<T>& p,
         E num = h.face % 2 == 0 ? -he : he, den;
         for (int j = 0; j < 3; ++j) {
             const E a(b->axes(j, i));
-            num -= a * (o[j] - E(b->center[j]));
-            den += a * d[j];
+            num -= a * (o[std::size_t(j)] - E(b->center[j]));
+            den += a * d[std::size_t(j)];
         }
         return quotient_entry<E, T>(num, den);
     }

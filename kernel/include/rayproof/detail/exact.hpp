@@ -512,7 +512,7 @@ private:
         return r;
     }
 
-    std::uint64_t limb_[kCapacity + 1];  // one spare limb for a carry or a product's top
+    std::uint64_t limb_[std::size_t(kCapacity) + 1];  // one spare limb for a carry or a product's top
     int n_ = 0;
     bool neg_ = false;
     bool of_ = false;

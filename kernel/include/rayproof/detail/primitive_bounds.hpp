@@ -301,7 +301,7 @@ template <class T> std::optional<Aabb<T>> box_of(const ConvexPolyhedron<T>& poly
                     if (any_overflowed(X[0], X[1], X[2], X[3])) return std::nullopt;
                     if (X[3].sign() == 0) return std::optional<Approx3>{};  // dependent normals: no point
                     Approx3 out;
-                    for (int c = 0; c < 3; ++c) out[std::size_t(c)] = {X[c].approx(), X[3].approx()};
+                    for (int c = 0; c < 3; ++c) out[std::size_t(c)] = {X[std::size_t(c)].approx(), X[3].approx()};
                     return std::optional<Approx3>{out};
                 });
                 if (!point) return std::nullopt;  // past the exact types' capacity: not reached
