@@ -145,9 +145,8 @@ int main(int argc, char** argv) {
              " bytes per ball");
     };
 
-#if __has_include(<rayproof/bvh.hpp>)
     const auto t0 = std::chrono::steady_clock::now();
-    const Bvh<float, 8> bvh(std::span<const Primitive<float>>(prims));
+    const Bvh<float, 8> bvh{std::span<const Primitive<float>>(prims)};
     built("rayproof", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), bvh.stats().bytes);
     const auto add_mode = [&](const std::string& name, auto mode, bool exact) {
         methods.push_back(Method{
@@ -165,7 +164,6 @@ int main(int argc, char** argv) {
     add_mode("fast", fast, false);
     add_mode("conservative", conservative, false);
     add_mode("certified", certified, true);
-#endif
 
 #if RAYPROOF_BENCH_HAVE_EMBREE
     std::vector<std::unique_ptr<bench::EmbreeBallScene>> embree;
