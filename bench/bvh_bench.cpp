@@ -11,6 +11,8 @@
 //   bvh-build-s-METHOD S          the build, wall seconds, one thread
 //   bvh-bytes-METHOD B            what the structure holds after the build (rayproof:
 //                                 BvhStats::bytes; Embree: its device's memory monitor)
+//   bvh-bytes-items-METHOD B      of those, the copies of the balls themselves (rayproof:
+//                                 one Primitive<float> each; Embree: one float4 each)
 //   bvh-hits-SET H                judged rays the reference says hit
 //   bvh-wrong-SET-METHOD W        judged rays whose answer differs from the reference:
 //                                 another verdict, or another ball (rayproof certified:
@@ -138,16 +140,18 @@ int main(int argc, char** argv) {
 
     // ---- the structures and their builds
     std::vector<Method> methods;
-    const auto built = [&](const std::string& name, double seconds, std::size_t bytes) {
+    const auto built = [&](const std::string& name, double seconds, std::size_t bytes, std::size_t item_bytes) {
         put("bvh-build-s-" + name, seconds);
         put("bvh-bytes-" + name, double(bytes));
+        put("bvh-bytes-items-" + name, double(item_bytes * balls.size()));
         note(name + ": built in " + std::to_string(seconds) + " s, " + std::to_string(double(bytes) / double(balls.size())) +
              " bytes per ball");
     };
 
     const auto t0 = std::chrono::steady_clock::now();
     const Bvh<float, 8> bvh{std::span<const Primitive<float>>(prims)};
-    built("rayproof", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), bvh.stats().bytes);
+    built("rayproof", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), bvh.stats().bytes,
+          sizeof(Primitive<float>));
     const auto add_mode = [&](const std::string& name, auto mode, bool exact) {
         methods.push_back(Method{
             name, exact,
@@ -171,7 +175,7 @@ int main(int argc, char** argv) {
         embree.push_back(std::make_unique<bench::EmbreeBallScene>(balls, robust));
         const bench::EmbreeBallScene* e = embree.back().get();
         const std::string name = robust ? "embree_robust" : "embree";
-        built(name, e->build_seconds(), e->bytes());
+        built(name, e->build_seconds(), e->bytes(), 4 * sizeof(float));
         methods.push_back(Method{
             name, false,
             [e](const Ray<float>& r) {

@@ -715,12 +715,14 @@ std::string bvh_wrong_table(const Report& r) {
 std::string bvh_build_table(const Report& r) {
     const auto get = [&](const std::string& k) { return r.bvh.count(k) ? r.bvh.at(k) : NAN; };
     const double n = get("bvh-spheres");
-    std::string o = row({"structure", "build, ms (one thread)", "ns per primitive", "bytes per primitive"}) + rule(1, 3);
+    std::string o = row({"structure", "build, ms (one thread)", "ns per primitive", "bytes per primitive",
+                         "of which the primitive's copy"}) +
+                    rule(1, 4);
     for (const std::string m : {"rayproof", "embree", "embree_robust"}) {
         const double s = get("bvh-build-s-" + m);
         if (std::isnan(s)) continue;
         o += row({m == "rayproof" ? "rayproof Bvh<float, 8>" : kBvhLabel.at(m), num(1e3 * s), num(1e9 * s / n),
-                  num(get("bvh-bytes-" + m) / n)});
+                  num(get("bvh-bytes-" + m) / n), num(get("bvh-bytes-items-" + m) / n)});
     }
     return o;
 }
