@@ -18,7 +18,8 @@
 #   TRADE_QUICK=1            a fast, low-precision run (smaller samples, fewer repetitions)
 #   TRADE_REPETITIONS=R      benchmark repetitions (default 5; the median is reported)
 #   TRADE_CASES=N            cases judged per (shape, type, workload) (default 131072)
-#   TRADE_ONLY=tracer        run the tracer stage alone and rebuild the report with the
+#   TRADE_ONLY=tracer        run the tracer stages alone (the default scene against POV-Ray,
+#                            and the tracer-and-BVH tables) and rebuild the report with the
 #                            other stages' raw data of the last full run (build/bench/trade/),
 #                            which the report's head then dates
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -209,7 +210,7 @@ fi
 echo "== report"
 stages_meta=()
 if [ "$ONLY" = tracer ]; then
-  stages_meta=(--meta "stages=the tracer's section from this run; every other table from the full run of $earlier")
+  stages_meta=(--meta "stages=the tracer's sections (POV-Ray, tracer and BVH) from this run; every other table from the full run of $earlier")
 fi
 "$B/rayproof_trade_report" --bench "$OUT/bench.json" --counters "$OUT/counters.json" \
   --accuracy "$OUT/accuracy_boxes.csv" --accuracy "$OUT/accuracy_sphere.csv" --tracer "$OUT/tracer.txt" \
