@@ -9,8 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <future>
 #include <limits>
+#include <optional>
 #include <string>
 #include <thread>
 #include <type_traits>
@@ -452,9 +452,13 @@ template <class M> RenderResult render_in(const Scene& s, const RenderOptions& o
     const int all = int(std::max(1u, std::thread::hardware_concurrency()));
     res.threads = std::max(0, std::min(opt.threads > 0 ? opt.threads : all, h));
     std::vector<Stats> stats(std::size_t(res.threads));
-    std::atomic<int> next_row{0}, rows_done{0};
-    std::promise<void> finished;  // set with the last row
-    const std::future<void> done = finished.get_future();
+    std::atomic<int> next_row{0};
+    // A bar on stderr once the render has lasted a second (progress.hpp): the caller's, or
+    // one of its own when asked for.
+    std::optional<Progress> own;
+    Progress* progress = opt.reporter;
+    if (!progress && opt.progress && h > 0) progress = &own.emplace(true);
+    if (progress) progress->phase("rendering", std::uint64_t(std::max(h, 0)));
     const auto t0 = clock::now();
     std::vector<std::thread> pool;
     for (std::size_t k = 0; k < stats.size(); ++k)
@@ -467,28 +471,12 @@ template <class M> RenderResult render_in(const Scene& s, const RenderOptions& o
                     std::uint8_t* px = res.image.at(x, y);
                     for (int ch = 0; ch < 3; ++ch) px[ch] = to_byte(c[ch]);
                 }
-                if (++rows_done == h) finished.set_value();
+                if (progress) progress->add(1);
             }
             stats[k] = st;
         });
-    if (opt.progress && h > 0) {
-        // A bar on stderr, redrawn every 100 ms once the render has lasted a second.
-        bool shown = false;
-        const auto show = [&] {
-            const double sec = std::chrono::duration<double>(clock::now() - t0).count();
-            if (!shown && sec <= 1) return;
-            shown = true;
-            const int done_rows = rows_done, filled = done_rows * 40 / h;
-            const std::string bar = std::string(std::size_t(filled), '#') + std::string(std::size_t(40 - filled), '.');
-            std::fprintf(stderr, "\rrendering [%s] %3d%% %6.1fs", bar.c_str(), done_rows * 100 / h, sec);
-        };
-        while (done.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) show();
-        if (shown) {
-            show();
-            std::fputc('\n', stderr);
-        }
-    }
     for (std::thread& t : pool) t.join();
+    if (progress) progress->finish();
     res.seconds = std::chrono::duration<double>(clock::now() - t0).count();
     for (const Stats& st : stats) res.stats += st;
     return res;

@@ -36,6 +36,7 @@
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/surface_point.hpp>
 #include <rayproof/render/image.hpp>
+#include <rayproof/render/progress.hpp>
 #include <rayproof/render/scene.hpp>
 
 #include <cstdint>
@@ -74,6 +75,7 @@ struct Stats {
 struct RenderOptions {
     int threads = 0;        // threads rendering rows (0: every hardware thread), never more than rows
     bool progress = false;  // draw a progress bar on stderr if the render lasts over a second
+    Progress* reporter = nullptr;  // or report the rows here (progress.hpp), the phase "rendering"
     TraceOptions trace;
 };
 
