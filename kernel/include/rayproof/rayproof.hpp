@@ -12,6 +12,8 @@
 // internals live in detail/. Every header here stands alone (any order compiles).
 #pragma once
 
+#include <rayproof/bvh.hpp>
+#include <rayproof/closest.hpp>
 #include <rayproof/intersect.hpp>
 #include <rayproof/io.hpp>
 #include <rayproof/normal.hpp>
