@@ -34,6 +34,7 @@ struct Args {
     bool stats = false, quiet = false, progress = false;
     bool no_tree_attenuation = false;
     bool no_prefilter = false;
+    bool no_bvh = false;
 };
 
 // A mode's name, checked and turned into the enum's value.
@@ -133,6 +134,7 @@ int run_render(const Args& a) {
     RenderOptions opt;
     opt.threads = a.threads.value_or(0);
     opt.trace.polyhedron_prefilter = !a.no_prefilter;
+    opt.trace.bvh = !a.no_bvh;
     opt.reporter = &progress;
     const int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
     const int workers = std::min(threads, scene->settings.height);
@@ -274,6 +276,8 @@ void add_commands(CLI::App& app, int& status) {
     render.add_flag("--stats", r->stats, "print ray and kernel-query counts");
     render.add_flag("--no-prefilter", r->no_prefilter,
                     "ask every polyhedron's planes, without its bounding-sphere pre-filter (to measure it)");
+    render.add_flag("--no-bvh", r->no_bvh,
+                    "ask every object for every ray instead of the scene's BVH (the brute force, to compare and measure)");
     render.add_flag("-q,--quiet", r->quiet, "print nothing on success");
     render.add_flag("--progress", r->progress,
                     "show the progress of long loads and renders on stderr even when it is not a terminal");
