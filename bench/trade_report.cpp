@@ -647,12 +647,13 @@ std::string yes_no(bool met) { return met ? "**yes**" : "**no**"; }
 
 // The generated scenes against POV-Ray: keys scene-N-MODE, scene-N-MODE-cpu,
 // scene-N-MODE-timeout (the render was stopped after that many seconds), scene-N-povray,
-// scene-N-povray-cpu.
+// scene-N-povray-cpu, scene-N-parity-mean (the mean absolute difference per channel of the
+// two pictures, out of 255).
 std::string bvh_scene_table(const Report& r) {
     const auto get = [&](const std::string& k) { return r.bvh.count(k) ? r.bvh.at(k) : NAN; };
     std::string o = row({"scene", "objects", "rayproof certified, wall s", "CPU s", "POV-Ray 3.7, wall s", "CPU s",
-                         "rayproof ÷ POV-Ray, wall", "CPU", "target (wall)", "met"}) +
-                    rule(1, 9);
+                         "rayproof ÷ POV-Ray, wall", "CPU", "target (wall)", "met", "pictures: mean difference"}) +
+                    rule(1, 10);
     bool any = false;
     for (const SceneTarget& g : kSceneTargets) {
         const std::string p = "scene-" + std::to_string(g.objects) + "-";
@@ -667,7 +668,8 @@ std::string bvh_scene_table(const Report& r) {
                   finished ? num(get(p + "certified-cpu")) : "—", num(pw), num(get(p + "povray-cpu")),
                   finished ? num(q) : std::isnan(stopped) ? "—" : "> " + num(stopped / pw),
                   finished ? num(get(p + "certified-cpu") / get(p + "povray-cpu")) : "—", "≤ " + num(g.limit) + "×",
-                  yes_no(finished && q <= g.limit)});
+                  yes_no(finished && q <= g.limit),
+                  std::isnan(get(p + "parity-mean")) ? "—" : fmt::format("{:.3f}/255", get(p + "parity-mean"))});
     }
     return any ? o : prose()("bvh.scenes.none");
 }

@@ -176,6 +176,9 @@ for n in $BVH_SCENES; do
   if [ "$status" = 0 ]; then
     echo "scene-$n-certified $(echo "$t" | awk '{print $1}')" >>"$BV/scenes.txt"
     echo "scene-$n-certified-cpu $(echo "$t" | awk '{print $2 + $3}')" >>"$BV/scenes.txt"
+    # The same picture? "mean absolute difference X/255 per channel; ..."
+    "$RP" compare "$BV/rayproof_$n.png" "$BV/povray_$n.png" >"$BV/compare_$n.txt" 2>&1 || true
+    sed -nE "s|^mean absolute difference ([0-9.]+)/255.*|scene-$n-parity-mean \1|p" "$BV/compare_$n.txt" >>"$BV/scenes.txt"
   elif [ "$status" = 124 ]; then
     echo "scene-$n-certified-timeout $limit" >>"$BV/scenes.txt"
   else
