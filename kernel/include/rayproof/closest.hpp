@@ -42,7 +42,7 @@ template <class T> struct ClosestHit {
 
 // The primitives' span, not a deduced parameter: T comes from the ray, so a
 // std::vector<Primitive<T>> or an array converts to it.
-template <class T> using Prims = std::span<const Primitive<std::type_identity_t<T>>>;
+template <class T> using PrimitiveSpan = std::span<const Primitive<std::type_identity_t<T>>>;
 
 namespace detail {
 
@@ -97,7 +97,7 @@ ClosestHit<T> any_hit_brute(const PreparedRay<T>& ray, std::span<const Primitive
 // answer in the default floating-point environment whatever the caller's (detail/fp_env.hpp).
 template <class T, class Mode>
     requires(is_scalar_v<T> && is_mode_v<Mode>)
-[[nodiscard]] ClosestHit<T> closest_hit(const PreparedRay<T>& ray, Prims<T> prims, Mode mode) {
+[[nodiscard]] ClosestHit<T> closest_hit(const PreparedRay<T>& ray, PrimitiveSpan<T> prims, Mode mode) {
     static_cast<void>(mode);
     if constexpr (detail::fp_env_guarded<Mode>)
         return detail::in_default_fp_env(
@@ -109,7 +109,7 @@ template <class T, class Mode>
 
 template <class T, class Mode>
     requires(is_scalar_v<T> && is_mode_v<Mode>)
-[[nodiscard]] ClosestHit<T> any_hit(const PreparedRay<T>& ray, Prims<T> prims, Mode mode) {
+[[nodiscard]] ClosestHit<T> any_hit(const PreparedRay<T>& ray, PrimitiveSpan<T> prims, Mode mode) {
     static_cast<void>(mode);
     if constexpr (detail::fp_env_guarded<Mode>)
         return detail::in_default_fp_env(
@@ -121,13 +121,13 @@ template <class T, class Mode>
 
 template <class T, class Mode>
     requires(is_scalar_v<T> && is_mode_v<Mode>)
-[[nodiscard]] ClosestHit<T> closest_hit(const Ray<T>& ray, Prims<T> prims, Mode mode) {
+[[nodiscard]] ClosestHit<T> closest_hit(const Ray<T>& ray, PrimitiveSpan<T> prims, Mode mode) {
     return closest_hit(PreparedRay<T>(ray), prims, mode);
 }
 
 template <class T, class Mode>
     requires(is_scalar_v<T> && is_mode_v<Mode>)
-[[nodiscard]] ClosestHit<T> any_hit(const Ray<T>& ray, Prims<T> prims, Mode mode) {
+[[nodiscard]] ClosestHit<T> any_hit(const Ray<T>& ray, PrimitiveSpan<T> prims, Mode mode) {
     return any_hit(PreparedRay<T>(ray), prims, mode);
 }
 
