@@ -13,6 +13,7 @@
 //     per-shape queries (verdict, the winner's Hit bit for bit, the smallest t_enter with
 //     the lowest index for fast / conservative, compare_entry's order for certified, the
 //     lowest hit for any_hit); the Ray and PreparedRay forms agree;
+//   - the certified and conservative answers are the same under every rounding mode;
 //   - enclosing_box contains the solid, judged by the kernel itself: for seeded rays from
 //     outside, a hit on the solid is a hit on the box no later (certified hits, exact
 //     order); rays leaving each face of the box outward miss the solid (certified); and
@@ -27,6 +28,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <cfenv>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -409,6 +411,40 @@ TYPED_TEST(Closest, RandomScenesAgreeWithThePerShapeQueries) {
         }
     }
     EXPECT_GT(hits, 500) << "the scenes must be hit often enough to test the order";
+}
+
+// The certified and conservative answers do not depend on the caller's rounding mode:
+// closest_hit and any_hit answer in the default environment (detail/fp_env.hpp), the
+// exact order included.
+TYPED_TEST(Closest, DirectedRoundingGivesTheSameAnswers) {
+    using T = TypeParam;
+    RAYPROOF_SEED_TRACE(base_seed());
+    auto rng = make_rng();
+    Gen<T> gen{rng};
+    int compared = 0;
+    for (int scene = 0; scene < 40; ++scene) {
+        Scene<T> sc;
+        const int n = 2 + gen.pick(10);
+        for (int i = 0; i < n; ++i) sc.prims.push_back(gen.primitive(sc));
+        const std::span<const Primitive<T>> p(sc.prims);
+        for (int k = 0; k < 10; ++k) {
+            const Ray<T> r = gen.ray();
+            const ClosestHit<T> cert = closest_hit(r, p, certified), cons = closest_hit(r, p, conservative);
+            const ClosestHit<T> any = any_hit(r, p, certified);
+            for (const int mode : {FE_UPWARD, FE_DOWNWARD, FE_TOWARDZERO}) {
+                ASSERT_EQ(std::fesetround(mode), 0);
+                const ClosestHit<T> c2 = closest_hit(r, p, certified), k2 = closest_hit(r, p, conservative);
+                const ClosestHit<T> a2 = any_hit(r, p, certified);
+                ASSERT_EQ(std::fesetround(FE_TONEAREST), 0);
+                EXPECT_TRUE(c2.index == cert.index && same_hit(c2.hit, cert.hit)) << "rounding " << mode << "\n" << describe(r, p);
+                EXPECT_TRUE(k2.index == cons.index && same_hit(k2.hit, cons.hit)) << "rounding " << mode << "\n" << describe(r, p);
+                EXPECT_TRUE(a2.index == any.index && same_hit(a2.hit, any.hit)) << "rounding " << mode << "\n" << describe(r, p);
+                ++compared;
+            }
+            if (::testing::Test::HasFailure()) return;
+        }
+    }
+    EXPECT_EQ(compared, 40 * 10 * 3);
 }
 
 // ---- enclosing_box ----------------------------------------------------------------------

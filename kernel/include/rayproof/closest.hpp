@@ -14,6 +14,11 @@
 //            exactly, since no primitive's own answer misses then).
 //   any_hit:  hit iff some primitive is hit in the mode (certified: exactly); index = the
 //            lowest primitive hit, its own Hit in the mode.
+// Algorithm: one pass in index order keeping the best hit so far; a later primitive
+//            replaces it only when strictly closer (so ties stay with the lower index):
+//            certified by compare_entry (the faithful floats' filter, else the exact entries
+//            compared with Shewchuk expansions or BigDyadic8), the other modes by their
+//            computed t_enter. any_hit stops at the first primitive hit.
 // Degenerate cases: an invalid primitive is never hit (it is skipped); the ray alone
 //            decides Verdict::invalid (index -1). No primitives: a miss.
 // Error bound: none of its own; every t is the primitive's own answer in the mode.
