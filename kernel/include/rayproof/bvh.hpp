@@ -77,11 +77,14 @@
 //            for_each_candidate (nothing in the tree can be met: no further candidate
 //            from it); t_limit above t_max (the ray's own range). -inf entries (t_min =
 //            -inf on a plane) have next_up(-inf) = the lowest float, still above E_best.
-// Environment: comparisons only in the traversal (no rounding): under
-//            denormals-are-zero a comparison x > y may answer false where it is true,
-//            never the reverse, so a child is then kept, never lost; the narrowed range
-//            end and next_up are selected and stepped by their bits, never by min or an
-//            arithmetic step. The queries themselves answer in the default environment.
+// Environment: certified and conservative closest_hit and any_hit answer in the default
+//            floating-point environment whatever the caller's (detail/fp_env.hpp), as the
+//            brute force does: compare_entry and the primitives' comparisons assume it.
+//            for_each_candidate runs its callback in the caller's environment; its node
+//            tests answer in the default one, and the traversal itself only compares
+//            (under denormals-are-zero x > y may answer false where it is true, never the
+//            reverse, so a child is then kept, never lost) and selects the narrowed range
+//            end and steps next_up by their bits, never by min or arithmetic.
 // No exception on any primitive or ray: bad primitives are kept beside the tree and
 // answered invalid by their own queries; an empty Bvh answers miss.
 #pragma once
@@ -230,9 +233,61 @@ public:
     [[nodiscard]] std::span<const std::size_t> outside() const noexcept { return outside_; }
 
     // The brute force's answer (closest.hpp) in the mode's sense: see the header comment.
+    // The certified and conservative forms answer in the default floating-point
+    // environment whatever the caller's, as the brute force does (detail/fp_env.hpp):
+    // compare_entry and the comparisons of t assume it.
     template <class Mode>
         requires is_mode_v<Mode>
     [[nodiscard]] ClosestHit<T> closest_hit(const PreparedRay<T>& ray, Mode mode) const noexcept {
+        if constexpr (detail::fp_env_guarded<Mode>)
+            return detail::in_default_fp_env(
+                [this](const PreparedRay<T>& r) noexcept { return closest_in_env(r, Mode{}); }, ray);
+        else
+            return closest_in_env(ray, mode);
+    }
+    template <class Mode>
+        requires is_mode_v<Mode>
+    [[nodiscard]] ClosestHit<T> closest_hit(const Ray<T>& ray, Mode mode) const noexcept {
+        return closest_hit(PreparedRay<T>(ray), mode);
+    }
+
+    // Some primitive hit (its own Hit in the mode), the first one met; see the header
+    // comment for what each mode promises. Environment as closest_hit.
+    template <class Mode>
+        requires is_mode_v<Mode>
+    [[nodiscard]] ClosestHit<T> any_hit(const PreparedRay<T>& ray, Mode mode) const noexcept {
+        if constexpr (detail::fp_env_guarded<Mode>)
+            return detail::in_default_fp_env([this](const PreparedRay<T>& r) noexcept { return any_in_env(r, Mode{}); },
+                                             ray);
+        else
+            return any_in_env(ray, mode);
+    }
+    template <class Mode>
+        requires is_mode_v<Mode>
+    [[nodiscard]] ClosestHit<T> any_hit(const Ray<T>& ray, Mode mode) const noexcept {
+        return any_hit(PreparedRay<T>(ray), mode);
+    }
+
+    // f(std::size_t index) -> bool for every primitive the ray may meet on [t_min,
+    // t_limit] (the primitives beside the tree first, then the tree's, near leaves
+    // first); f may lower t_limit and returns false to stop. Certified and conservative:
+    // never skips a primitive the ray meets on [t_min, t_limit] exactly, for the
+    // t_limit of the moment. f runs in the caller's floating-point environment; the
+    // node tests answer in the default one, and the traversal itself only compares.
+    template <class Mode, class F>
+        requires is_mode_v<Mode>
+    void for_each_candidate(const PreparedRay<T>& ray, Mode mode, T& t_limit, F&& f) const {
+        if (!ray.valid()) return;
+        for (const std::size_t i : outside_)
+            if (!f(i)) return;
+        if (nodes_.empty()) return;
+        traverse(ray, mode, t_limit, f);
+    }
+
+private:
+    using Node = detail::BvhNode<T, W>;
+
+    template <class Mode> ClosestHit<T> closest_in_env(const PreparedRay<T>& ray, Mode mode) const noexcept {
         ClosestHit<T> best;
         if (!ray.valid()) return invalid_answer();
         const T t_max = ray.ray().t_max;
@@ -264,17 +319,8 @@ public:
         });
         return best;
     }
-    template <class Mode>
-        requires is_mode_v<Mode>
-    [[nodiscard]] ClosestHit<T> closest_hit(const Ray<T>& ray, Mode mode) const noexcept {
-        return closest_hit(PreparedRay<T>(ray), mode);
-    }
 
-    // Some primitive hit (its own Hit in the mode), the first one met; see the header
-    // comment for what each mode promises.
-    template <class Mode>
-        requires is_mode_v<Mode>
-    [[nodiscard]] ClosestHit<T> any_hit(const PreparedRay<T>& ray, Mode mode) const noexcept {
+    template <class Mode> ClosestHit<T> any_in_env(const PreparedRay<T>& ray, Mode mode) const noexcept {
         ClosestHit<T> best;
         if (!ray.valid()) return invalid_answer();
         T limit = ray.ray().t_max;
@@ -288,29 +334,6 @@ public:
         });
         return best;
     }
-    template <class Mode>
-        requires is_mode_v<Mode>
-    [[nodiscard]] ClosestHit<T> any_hit(const Ray<T>& ray, Mode mode) const noexcept {
-        return any_hit(PreparedRay<T>(ray), mode);
-    }
-
-    // f(std::size_t index) -> bool for every primitive the ray may meet on [t_min,
-    // t_limit] (the primitives beside the tree first, then the tree's, near leaves
-    // first); f may lower t_limit and returns false to stop. Certified and conservative:
-    // never skips a primitive the ray meets on [t_min, t_limit] exactly, for the
-    // t_limit of the moment.
-    template <class Mode, class F>
-        requires is_mode_v<Mode>
-    void for_each_candidate(const PreparedRay<T>& ray, Mode mode, T& t_limit, F&& f) const {
-        if (!ray.valid()) return;
-        for (const std::size_t i : outside_)
-            if (!f(i)) return;
-        if (nodes_.empty()) return;
-        traverse(ray, mode, t_limit, f);
-    }
-
-private:
-    using Node = detail::BvhNode<T, W>;
 
     static ClosestHit<T> invalid_answer() noexcept {
         ClosestHit<T> r;
