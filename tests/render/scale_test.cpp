@@ -1,6 +1,6 @@
 // Large scenes: 100,000 generated objects parse, every one of them read back (its time
 // is recorded as the test property parse_seconds, never asserted: speed belongs to the
-// benchmarks); the memory bounds of memory.hpp hold against what the JSON tree really
+// benchmarks), and their BVH fits in the estimate of render_need; the memory bounds of memory.hpp hold against what the JSON tree really
 // takes; a scene that cannot fit in the memory left under RLIMIT_AS is refused, before
 // it is parsed or rendered, with a message naming the need and what is available, and a
 // clean exit status 1; progress lines appear only after a second and never in the image.
@@ -60,6 +60,26 @@ TEST(Scale, ParsesOneHundredThousandObjects) {
         if (!ok && mismatched++ < 5) ADD_FAILURE() << "seed " << seed << ": object " << i << " is not a " << k;
     }
     EXPECT_EQ(mismatched, 0u);
+    // The BVH the tracer builds over them fits in render_need's estimate.
+    std::vector<Primitive<double>> prims;
+    for (const Object& o : s.objects)
+        std::visit(
+            [&](const auto& sh) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(sh)>, Polyhedron>)
+                    prims.emplace_back(sh.kernel());
+                else
+                    prims.emplace_back(sh);
+            },
+            o.shape);
+    prims.emplace_back(Sphere<double>{s.lights[1].position, s.lights[1].radius});
+    const Bvh<double, 8> bvh(prims);
+    const BvhStats st = bvh.stats();
+    std::uint64_t estimate = 0;
+    for (const auto& p : render_need(s, 1).parts)
+        if (std::string(p.what) == "BVH") estimate = p.bytes;
+    RecordProperty("bvh_bytes", std::to_string(st.bytes));
+    RecordProperty("bvh_nodes", std::to_string(st.nodes));
+    EXPECT_LE(st.bytes + prims.size() * sizeof(Primitive<double>), estimate) << st.nodes << " nodes";
 }
 
 // Heap bytes in use (glibc's count); 0 growth for a 1 MB block means the count is not

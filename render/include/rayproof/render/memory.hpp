@@ -7,9 +7,9 @@
 //     document tree and the Scene, each bounded from a count of the text's tokens (see
 //     memory.cpp for the per-token sizes: libstdc++'s containers on glibc's malloc, whose
 //     chunks take max(32, round_up(n + 8, 16)) bytes for n asked);
-//   rendering (render_need, once the Scene is read and the document freed): the BVH (the
-//     copied primitives and at most one node per primitive), the image and the worker
-//     threads' stacks.
+//   rendering (render_need, once the Scene is read and the document freed): the BVH (its
+//     build's peak: two lists of primitives, the scratch, and an estimate of the nodes,
+//     see memory.cpp), the image and the worker threads' stacks.
 // Available (available_memory): the least of
 //   MemAvailable of /proc/meminfo (or sysconf _SC_AVPHYS_PAGES · _SC_PAGESIZE),
 //   RLIMIT_AS less the address space already in use (/proc/self/statm), when set,
@@ -44,7 +44,7 @@ struct MemoryAvailable {
 
 // Upper bounds for parsing `text` (see above).
 MemoryNeed scene_text_need(std::string_view text);
-// Upper bounds for rendering `scene` with `threads` worker threads.
+// What rendering `scene` with `threads` worker threads takes beyond the Scene.
 MemoryNeed render_need(const Scene& scene, int threads);
 MemoryAvailable available_memory();
 
