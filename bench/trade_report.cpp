@@ -12,6 +12,7 @@
 //   rayproof_trade_report --bench B.json [--counters C.json] [--accuracy A.csv ...]
 //       [--tracer T.txt] [--tracer-facts F.txt] [--meta KEY=VALUE ...] [--md OUT.md] [--plot-dir DIR --plot-png PNG]
 //       [--plot-ref NAME] [--tracer-png NAME] [--audit AUDIT.md] [--summary-md OUT.md] [--render-md OUT.md]
+//       [--bvh BVH.txt ...]
 //
 // Times are the median over repetitions of the CPU time of one pass over the cases,
 // divided by the number of cases (CPU time, not wall time: the machine may be shared);
@@ -305,6 +306,7 @@ struct Report {
     std::vector<std::pair<std::string, std::string>> meta;
     std::vector<std::pair<std::string, double>> tracer;  // label -> seconds
     std::map<std::string, double> tracer_facts;         // rays-MODE, queries-MODE, parity-*
+    std::map<std::string, double> bvh;                  // --bvh: rayproof_bvh_bench and the generated scenes' timings
     json context;
 
     const Timing* scalar(const std::string& shape, const std::string& type, const std::string& w,
@@ -618,6 +620,130 @@ std::string tracer_table(const Report& r, const std::string& png) {
     return o;
 }
 
+// ---- tracer and BVH (issue #18) -----------------------------------------------------
+// The generated scenes' targets: the certified render at most `limit` times POV-Ray's wall
+// time on the exported scene, same threads.
+struct SceneTarget {
+    long long objects;
+    double limit;
+};
+constexpr SceneTarget kSceneTargets[] = {{2000, 1.0}, {100000, 2.0}};
+// Closest-hit rays per second: the faster Embree scene's rate over the method's, at most `limit`.
+struct RayTarget {
+    const char* method;
+    double limit;
+};
+constexpr RayTarget kRayTargets[] = {{"fast", 1.5}, {"certified", 2.0}};
+const std::vector<std::string> kBvhMethods = {"fast", "conservative", "certified", "embree", "embree_robust"};
+const std::map<std::string, std::string> kBvhLabel = {{"fast", "rayproof Bvh, fast"},
+                                                      {"conservative", "rayproof Bvh, conservative"},
+                                                      {"certified", "rayproof Bvh, certified"},
+                                                      {"embree", "Embree 3"},
+                                                      {"embree_robust", "Embree 3, robust"}};
+const std::vector<std::string> kBvhSets = {"camera", "grazing"};
+
+std::string count(double v);
+std::string yes_no(bool met) { return met ? "**yes**" : "**no**"; }
+
+// The generated scenes against POV-Ray: keys scene-N-MODE, scene-N-MODE-cpu,
+// scene-N-MODE-timeout (the render was stopped after that many seconds), scene-N-povray,
+// scene-N-povray-cpu, scene-N-parity-mean (the mean absolute difference per channel of the
+// two pictures, out of 255).
+std::string bvh_scene_table(const Report& r) {
+    const auto get = [&](const std::string& k) { return r.bvh.count(k) ? r.bvh.at(k) : NAN; };
+    std::string o = row({"scene", "objects", "rayproof certified, wall s", "CPU s", "POV-Ray 3.7, wall s", "CPU s",
+                         "rayproof ÷ POV-Ray, wall", "CPU", "target (wall)", "met", "pictures: mean difference"}) +
+                    rule(1, 10);
+    bool any = false;
+    for (const SceneTarget& g : kSceneTargets) {
+        const std::string p = "scene-" + std::to_string(g.objects) + "-";
+        const double pw = get(p + "povray"), stopped = get(p + "certified-timeout");
+        if (std::isnan(pw) && std::isnan(get(p + "certified")) && std::isnan(stopped)) continue;
+        any = true;
+        const double w = get(p + "certified");
+        const bool finished = std::isnan(stopped) && !std::isnan(w);
+        const double q = w / pw;
+        o += row({"generated field", count(double(g.objects)),
+                  finished ? num(w) : std::isnan(stopped) ? "—" : "stopped at " + num(stopped),
+                  finished ? num(get(p + "certified-cpu")) : "—", num(pw), num(get(p + "povray-cpu")),
+                  finished ? num(q) : std::isnan(stopped) ? "—" : "> " + num(stopped / pw),
+                  finished ? num(get(p + "certified-cpu") / get(p + "povray-cpu")) : "—", "≤ " + num(g.limit) + "×",
+                  yes_no(finished && q <= g.limit),
+                  std::isnan(get(p + "parity-mean")) ? "—" : fmt::format("{:.3f}/255", get(p + "parity-mean"))});
+    }
+    return any ? o : prose()("bvh.scenes.none");
+}
+
+std::string bvh_rays_table(const Report& r) {
+    const auto get = [&](const std::string& k) { return r.bvh.count(k) ? r.bvh.at(k) : NAN; };
+    std::string o = row({"method", "ray set", "M rays / s", "Embree ÷ method", "Embree robust ÷ method", "target", "met"}) +
+                    rule(2, 5);
+    for (const auto& set : kBvhSets) {
+        const double e = get("bvh-rate-" + set + "-embree"), er = get("bvh-rate-" + set + "-embree_robust");
+        const double best = std::isnan(e) ? er : std::isnan(er) ? e : std::max(e, er);
+        for (const auto& m : kBvhMethods) {
+            const double rate = get("bvh-rate-" + set + "-" + m);
+            if (std::isnan(rate)) continue;
+            std::string target = "—", met = "—";
+            for (const RayTarget& g : kRayTargets)
+                if (m == g.method) {
+                    target = "≤ " + num(g.limit) + "× the faster Embree";
+                    met = yes_no(best / rate <= g.limit);
+                }
+            const bool is_embree = m.rfind("embree", 0) == 0;
+            o += row({kBvhLabel.at(m), set, num(rate / 1e6), is_embree ? "—" : num(e / rate),
+                      is_embree ? "—" : num(er / rate), target, met});
+        }
+    }
+    return o;
+}
+
+std::string bvh_wrong_table(const Report& r) {
+    const auto get = [&](const std::string& k) { return r.bvh.count(k) ? r.bvh.at(k) : NAN; };
+    std::string o = row({"method", "ray set", "judged", "hit (brute force)", "wrong closest hit", "false misses",
+                         "false hits", "another ball"}) +
+                    rule(2, 6);
+    for (const auto& set : kBvhSets)
+        for (const auto& m : kBvhMethods) {
+            const double w = get("bvh-wrong-" + set + "-" + m);
+            if (std::isnan(w)) continue;
+            const double fm = get("bvh-falsemiss-" + set + "-" + m), fh = get("bvh-falsehit-" + set + "-" + m);
+            o += row({kBvhLabel.at(m), set, count(get("bvh-judged-" + set)), count(get("bvh-hits-" + set)), count(w),
+                      count(fm), count(fh), count(w - fm - fh)});
+        }
+    return o;
+}
+
+std::string bvh_build_table(const Report& r) {
+    const auto get = [&](const std::string& k) { return r.bvh.count(k) ? r.bvh.at(k) : NAN; };
+    const double n = get("bvh-spheres");
+    std::string o = row({"structure", "build, ms (one thread)", "ns per primitive", "bytes per primitive",
+                         "of which the primitive's copy"}) +
+                    rule(1, 4);
+    for (const std::string m : {"rayproof", "embree", "embree_robust"}) {
+        const double s = get("bvh-build-s-" + m);
+        if (std::isnan(s)) continue;
+        o += row({m == "rayproof" ? "rayproof Bvh<float, 8>" : kBvhLabel.at(m), num(1e3 * s), num(1e9 * s / n),
+                  num(get("bvh-bytes-" + m) / n), num(get("bvh-bytes-items-" + m) / n)});
+    }
+    return o;
+}
+
+std::string bvh_section(const Report& r) {
+    if (r.bvh.empty()) return prose()("bvh.none");
+    const auto get = [&](const std::string& k) { return r.bvh.count(k) ? r.bvh.at(k) : NAN; };
+    Vars v = {{"scenes", bvh_scene_table(r)},
+              {"rays", bvh_rays_table(r)},
+              {"wrong", bvh_wrong_table(r)},
+              {"build", bvh_build_table(r)},
+              {"spheres", count(get("bvh-spheres"))},
+              {"camera_rays", count(get("bvh-rays-camera"))},
+              {"grazing_rays", count(get("bvh-rays-grazing"))},
+              {"brute_camera", num(get("bvh-brute-rate-camera"))},
+              {"brute_grazing", num(get("bvh-brute-rate-grazing"))}};
+    return prose()("bvh", v);
+}
+
 // Integers as integers, with thin separators: 1234567 -> 1,234,567.
 std::string count(double v) {
     std::string d = fmt::format("{:.0f}", v), o;
@@ -741,7 +867,7 @@ void write_plot_script(const std::string& path, const std::string& png) {
 struct Args {
     std::string bench, counters, tracer, tracer_facts, md, plot_dir, plot_png, plot_ref, tracer_png, audit, summary_md;
     std::string render_md;
-    std::vector<std::string> accuracy;
+    std::vector<std::string> accuracy, bvh;
     std::vector<std::pair<std::string, std::string>> meta;
 };
 
@@ -757,6 +883,9 @@ std::optional<int> parse_args(int argc, char** argv, Args& a) {
     app.add_option("--tracer-facts", a.tracer_facts,
                    "the tracer's counts and its comparison with POV-Ray: lines KEY VALUE (rays-MODE, "
                    "queries-MODE, parity-mean, parity-max, parity-differing, parity-pixels, parity-inexact)");
+    app.add_option("--bvh", a.bvh,
+                   "the BVH timings: lines KEY VALUE (rayproof_bvh_bench's and the generated scenes', scene-N-MODE "
+                   "seconds; repeatable)");
     app.add_option("--render-md", a.render_md, "write render/README.md's paragraph on speed here");
     app.add_option("--meta", meta, "a line of the report's head (repeatable)")
         ->type_name("KEY=VALUE")
@@ -786,6 +915,12 @@ Report load(const Args& a) {
         std::string label;
         double seconds;
         while (in >> label >> seconds) r.tracer.emplace_back(label, seconds);
+    }
+    for (const auto& path : a.bvh) {
+        std::ifstream in(path);
+        std::string key;
+        double value;
+        while (in >> key >> value) r.bvh[key] = value;
     }
     if (!a.tracer_facts.empty()) {
         std::ifstream in(a.tracer_facts);
@@ -825,6 +960,7 @@ std::string full_report(const Report& r, const Args& a, const Vars& common) {
     v["fp_env"] = fp_env_table(r);
     v["exact_stage"] = exact_stage_table(r);
     v["tracer"] = tracer_table(r, a.tracer_png);
+    v["bvh"] = bvh_section(r);
     for (const auto& s : kShapes)
         v["shapes"] += prose()("report.shape", {{"shape", kShapeLabel.at(s)}, {"table", shape_table(r, s)}});
     v["audit"] = a.audit.empty() ? "" : audit_section(a.audit);

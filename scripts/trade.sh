@@ -7,6 +7,8 @@
 #   docs/trade.png             time per query against wrong-verdict rate, per workload
 #   docs/tracer_vs_povray.png  the default scene, rayproof and POV-Ray side by side
 #   render/default.png         the default scene, certified, for render/README.md
+# and the tracer-and-BVH tables (issue #18): generated 2,000- and 100,000-object scenes
+# rendered by rayproof and by POV-Ray, closest-hit rays on 100,000 balls against Embree,
 # and render/README.md's paragraph on speed, between <!-- speed:begin --> and <!-- speed:end -->,
 # and, when README.md holds the lines <!-- trade:begin --> and <!-- trade:end -->, the
 # summary (date, compiler, flags, the uniform table, the checks, the plot) between them.
@@ -16,7 +18,8 @@
 #   TRADE_QUICK=1            a fast, low-precision run (smaller samples, fewer repetitions)
 #   TRADE_REPETITIONS=R      benchmark repetitions (default 5; the median is reported)
 #   TRADE_CASES=N            cases judged per (shape, type, workload) (default 131072)
-#   TRADE_ONLY=tracer        run the tracer stage alone and rebuild the report with the
+#   TRADE_ONLY=tracer        run the tracer stages alone (the default scene against POV-Ray,
+#                            and the tracer-and-BVH tables) and rebuild the report with the
 #                            other stages' raw data of the last full run (build/bench/trade/),
 #                            which the report's head then dates
 source "$(dirname "${BASH_SOURCE[0]}")/common.sh"
@@ -36,9 +39,19 @@ COUNT=65536
 COUNT_UNIFORM=1048576
 AUDIT_CASES=10000
 BATCH_MAX=1000000
+# The BVH stage: the generated scenes' sizes, the rays per set timed and judged, and how
+# long a render of each scene may run (the 2,000-object scene's render is kept to see its
+# time even far from the target; a larger scene's is stopped at 4× POV-Ray's time, at
+# least BVH_FLOOR s, which is beyond its target anyway).
+BVH_SCENES="2000 100000"
+BVH_RAYS=100000
+BVH_JUDGE=2000
+BVH_LIMIT_SMALL=180
+BVH_FLOOR=30
 if [ "${TRADE_QUICK:-0}" = 1 ]; then
   REPS="${TRADE_REPETITIONS:-3}" MIN_TIME=0.01 CASES="${TRADE_CASES:-8192}" CGAL_CASES=1024
   COUNT=4096 COUNT_UNIFORM=65536 AUDIT_CASES=500 BATCH_MAX=100000
+  BVH_RAYS=20000 BVH_JUDGE=300
 fi
 TIMEFORMAT='%R %U %S'  # bash `time`: wall, user and system seconds
 
@@ -140,6 +153,44 @@ unset multiplot
 EOF
 echo "   $(( $(date +%s) - t0 )) s"
 
+echo "== tracer and BVH: generated scenes against POV-Ray, closest-hit rays on 100k balls against Embree"
+t0=$(date +%s)
+BV="$OUT/bvh"
+mkdir -p "$BV"
+: >"$BV/scenes.txt"
+for n in $BVH_SCENES; do
+  "$B/rayproof_scene_gen" --kind mixed --objects "$n" --seed 1 -o "$BV/mixed_$n.json"
+  "$RP" export-pov "$BV/mixed_$n.json" --width 640 --height 480 --no-tree-attenuation \
+    >"$BV/mixed_$n.pov" 2>"$BV/export_$n.log"
+  t=$( { time (cd "$BV" && povray +Imixed_$n.pov +Opovray_$n.png +W640 +H480 -D -A +WT2 File_Gamma=1.0 \
+                 >povray_$n.log 2>&1); } 2>&1 )
+  pw=$(echo "$t" | awk '{print $1}')
+  echo "scene-$n-povray $pw" >>"$BV/scenes.txt"
+  echo "scene-$n-povray-cpu $(echo "$t" | awk '{print $2 + $3}')" >>"$BV/scenes.txt"
+  limit=$(awk -v p="$pw" -v n="$n" -v small="$BVH_LIMIT_SMALL" -v floor="$BVH_FLOOR" \
+    'BEGIN { l = n <= 2000 ? small : 4 * p; if (l < floor) l = floor; printf "%d", l + 1 }')
+  status=0
+  t=$( { time timeout "$limit" "$RP" render "$BV/mixed_$n.json" -o "$BV/rayproof_$n.png" --width 640 --height 480 \
+           --mode certified --depth 5 --threads 2 --no-tree-attenuation --stats -q >/dev/null 2>"$BV/render_$n.log"; } 2>&1 ) ||
+    status=$?
+  if [ "$status" = 0 ]; then
+    echo "scene-$n-certified $(echo "$t" | awk '{print $1}')" >>"$BV/scenes.txt"
+    echo "scene-$n-certified-cpu $(echo "$t" | awk '{print $2 + $3}')" >>"$BV/scenes.txt"
+    # The same picture? "mean absolute difference X/255 per channel; ..."
+    "$RP" compare "$BV/rayproof_$n.png" "$BV/povray_$n.png" >"$BV/compare_$n.txt" 2>&1 || true
+    sed -nE "s|^mean absolute difference ([0-9.]+)/255.*|scene-$n-parity-mean \1|p" "$BV/compare_$n.txt" >>"$BV/scenes.txt"
+  elif [ "$status" = 124 ]; then
+    echo "scene-$n-certified-timeout $limit" >>"$BV/scenes.txt"
+  else
+    echo "   (rayproof render failed on the $n-object scene, status $status: see $BV/render_$n.log)"
+  fi
+  echo "   $n objects: $(grep "^scene-$n-" "$BV/scenes.txt" | tr '\n' ' ')"
+done
+"$B/rayproof_bvh_bench" --rays "$BVH_RAYS" --judge "$BVH_JUDGE" --repetitions "$REPS" --seed 1 \
+  -o "$BV/rays.txt" 2>"$BV/rays.log" ||
+  echo "   (rayproof_bvh_bench: the certified BVH differed from brute force or failed: see $BV/rays.log)"
+echo "   $(( $(date +%s) - t0 )) s"
+
 if [ "$ONLY" != tracer ]; then
 echo "== accuracy: the oracle's judgement of the same cases ($CASES per workload) and the audit"
 t0=$(date +%s)
@@ -162,12 +213,13 @@ fi
 echo "== report"
 stages_meta=()
 if [ "$ONLY" = tracer ]; then
-  stages_meta=(--meta "stages=the tracer's section from this run; every other table from the full run of $earlier")
+  stages_meta=(--meta "stages=the tracer's sections (POV-Ray, tracer and BVH) from this run; every other table from the full run of $earlier")
 fi
 "$B/rayproof_trade_report" --bench "$OUT/bench.json" --counters "$OUT/counters.json" \
   --accuracy "$OUT/accuracy_boxes.csv" --accuracy "$OUT/accuracy_sphere.csv" --tracer "$OUT/tracer.txt" \
   $( [ -s "$OUT/audit.md" ] && echo --audit "$OUT/audit.md" ) \
   --tracer-facts "$OUT/tracer_facts.txt" --render-md "$OUT/render_speed.md" \
+  --bvh "$OUT/bvh/scenes.txt" $( [ -s "$OUT/bvh/rays.txt" ] && echo --bvh "$OUT/bvh/rays.txt" ) \
   --meta "date=$(date -u +%Y-%m-%d)" --meta "compiler=$compiler" --meta "flags=$flags" \
   "${stages_meta[@]}" \
   --meta "samples=$CASES cases judged per (shape, type, workload), the first $(grep -o '"cases": "[0-9]*"' "$OUT/bench.json" | grep -o '[0-9]*') of them timed; CGAL: the first $CGAL_CASES judged; $REPS repetitions of each timing" \

@@ -2,6 +2,7 @@
 #include <rayproof/render/cli.hpp>
 
 #include <rayproof/render/image.hpp>
+#include <rayproof/render/memory.hpp>
 #include <rayproof/render/parse.hpp>
 #include <rayproof/render/pov.hpp>
 #include <rayproof/render/tracer.hpp>
@@ -30,9 +31,10 @@ struct Args {
     std::optional<Mode> mode;
     std::vector<Mode> diff;  // --diff A B
     int diff_threshold = 0;
-    bool stats = false, quiet = false;
+    bool stats = false, quiet = false, progress = false;
     bool no_tree_attenuation = false;
     bool no_prefilter = false;
+    bool no_bvh = false;
 };
 
 // A mode's name, checked and turned into the enum's value.
@@ -60,8 +62,8 @@ void add_common(CLI::App& cmd, Args& a, const char* output_help) {
                  "turn off the ray tree's distance attenuation (the scene's \"tree_attenuation\")");
 }
 
-std::optional<Scene> load(const Args& a, const char* cmd) {
-    ParseResult r = load_scene(a.scene);
+std::optional<Scene> load(const Args& a, const char* cmd, Progress* progress = nullptr) {
+    ParseResult r = load_scene(a.scene, progress);
     if (!r) {
         std::fprintf(stderr, "rayproof %s: %s\n", cmd, r.error.to_string().c_str());
         return std::nullopt;
@@ -124,19 +126,27 @@ int run_render(const Args& a) {
         std::fprintf(stderr, "rayproof render: %s\n", e.c_str());
         return 1;
     }
-    std::optional<Scene> scene = load(a, "render");
+    // Progress of the load and the render on stderr: when it is a terminal, or asked for.
+    Progress progress(a.progress || (!a.quiet && isatty(STDERR_FILENO)));
+    std::optional<Scene> scene = load(a, "render", &progress);
     if (!scene) return 1;
 
     RenderOptions opt;
     opt.threads = a.threads.value_or(0);
     opt.trace.polyhedron_prefilter = !a.no_prefilter;
-    opt.progress = !a.quiet && isatty(STDERR_FILENO);
+    opt.trace.bvh = !a.no_bvh;
+    opt.reporter = &progress;
     const int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+    const int workers = std::min(threads, scene->settings.height);
+    if (const std::string no = refusal(render_need(*scene, workers), available_memory(), "render it"); !no.empty()) {
+        std::fprintf(stderr, "rayproof render: %s: %s\n", a.scene.c_str(), no.c_str());
+        return 1;
+    }
 
+    // The scene is rendered in place, its mode set for each render (no copy of its objects).
     auto render_mode = [&](Mode m) {
-        Scene s = *scene;
-        s.settings.mode = m;
-        return render(s, opt);
+        scene->settings.mode = m;
+        return render(*scene, opt);
     };
 
     if (!a.diff.empty()) {
@@ -160,14 +170,15 @@ int run_render(const Args& a) {
         return 0;
     }
 
-    const auto r = render_mode(scene->settings.mode);
+    const Mode mode = scene->settings.mode;
+    const auto r = render_mode(mode);
     if (const std::string e = write_image(r.image, a.output); !e.empty()) {
         std::fprintf(stderr, "rayproof render: %s\n", e.c_str());
         return 1;
     }
     if (!a.quiet)
         std::printf("wrote %s (%dx%d, mode %s, depth %d, %d thread%s, %.2f s)\n", a.output.c_str(), r.image.width,
-                    r.image.height, mode_name(scene->settings.mode), scene->settings.depth, threads,
+                    r.image.height, mode_name(mode), scene->settings.depth, threads,
                     threads == 1 ? "" : "s", r.seconds);
     if (a.stats) print_stats(r.stats);
     return 0;
@@ -265,7 +276,11 @@ void add_commands(CLI::App& app, int& status) {
     render.add_flag("--stats", r->stats, "print ray and kernel-query counts");
     render.add_flag("--no-prefilter", r->no_prefilter,
                     "ask every polyhedron's planes, without its bounding-sphere pre-filter (to measure it)");
+    render.add_flag("--no-bvh", r->no_bvh,
+                    "ask every object for every ray instead of the scene's BVH (the brute force, to compare and measure)");
     render.add_flag("-q,--quiet", r->quiet, "print nothing on success");
+    render.add_flag("--progress", r->progress,
+                    "show the progress of long loads and renders on stderr even when it is not a terminal");
     set_callback(render, r, status, run_render);
 
     const auto e = std::make_shared<Args>();

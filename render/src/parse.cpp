@@ -7,6 +7,8 @@
 // exception is caught and turned into a ParseError.
 #include <rayproof/render/parse.hpp>
 
+#include <rayproof/render/memory.hpp>
+
 #include <nlohmann/json.hpp>
 
 #include <Eigen/Geometry>
@@ -22,6 +24,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <initializer_list>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <utility>
@@ -430,7 +433,7 @@ void line_column(std::string_view text, std::size_t offset, int& line, int& colu
     }
 }
 
-Scene read_scene(const json& root) {
+Scene read_scene(const json& root, Progress* progress) {
     const Obj top(root, "", {"camera", "render", "ambient_light", "lights", "materials", "objects", "description",
                                      "tree_attenuation"});
     Scene s;
@@ -455,6 +458,8 @@ Scene read_scene(const json& root) {
     }
     const json& os = top.get("objects");
     if (!os.is_array()) fail("objects", "expected an array of objects, got " + type_name(os));
+    s.objects.reserve(os.size());  // no reallocation (and no moving of every object) as it grows
+    if (progress) progress->phase("checking", os.size());
     for (std::size_t i = 0; i < os.size(); ++i) {
         const std::string path = "objects[" + std::to_string(i) + "]";
         const json& oj = os[i];
@@ -481,7 +486,9 @@ Scene read_scene(const json& root) {
             fail(path + ".material", "expected a material name or a material object, got " + type_name(mj));
         }
         s.objects.push_back(std::move(obj));
+        if (progress && (i & 1023) == 1023) progress->set(i + 1);
     }
+    if (progress) progress->finish();
     return s;
 }
 
@@ -767,14 +774,49 @@ std::string ParseError::to_string() const {
     os << source;
     if (kind != Kind::io && line > 0) os << ':' << line << ':' << column;
     switch (kind) {
-        case Kind::io: os << ": " << message; break;
+        case Kind::io:
+        case Kind::memory: os << ": " << message; break;
         case Kind::syntax: os << ": syntax error: " << message; break;
         case Kind::schema: os << ": " << key << ": " << message; break;
     }
     return os.str();
 }
 
-ParseResult parse_scene(std::string_view text, std::string_view source_name) noexcept {
+namespace {
+
+// The text as nlohmann-json reads it, one character at a time, telling a Progress how far
+// it has come every 64 kB (one test and a rare store per character; nothing without one).
+class CountingIterator {
+public:
+    using iterator_category = std::input_iterator_tag;
+    using value_type = char;
+    using difference_type = std::ptrdiff_t;
+    using pointer = const char*;
+    using reference = const char&;
+    CountingIterator(const char* p, const char* begin, Progress* progress) : p_(p), begin_(begin), progress_(progress) {}
+    reference operator*() const { return *p_; }
+    CountingIterator& operator++() {
+        ++p_;
+        if (((p_ - begin_) & 0xFFFF) == 0 && progress_) progress_->set(std::uint64_t(p_ - begin_));
+        return *this;
+    }
+    CountingIterator operator++(int) {
+        CountingIterator old = *this;
+        ++*this;
+        return old;
+    }
+    bool operator==(const CountingIterator& o) const { return p_ == o.p_; }
+    bool operator!=(const CountingIterator& o) const { return p_ != o.p_; }
+
+private:
+    const char* p_;
+    const char* begin_;
+    Progress* progress_;
+};
+
+}  // namespace
+
+ParseResult parse_scene(std::string_view text, std::string_view source_name, Progress* progress) noexcept {
     ParseResult r;
     try {
         r.error.source = std::string(source_name);
@@ -786,7 +828,14 @@ ParseResult parse_scene(std::string_view text, std::string_view source_name) noe
         }
         json root;
         try {
-            root = json::parse(text.begin(), text.end());
+            if (progress) {
+                progress->phase("parsing", text.size());
+                root = json::parse(CountingIterator(text.data(), text.data(), progress),
+                                   CountingIterator(text.data() + text.size(), text.data(), progress));
+                progress->finish();
+            } else {
+                root = json::parse(text.begin(), text.end());
+            }
         } catch (const json::parse_error& e) {
             r.error.kind = ParseError::Kind::syntax;
             // e.byte is the 1-based offset of the last character read: the offending one.
@@ -832,7 +881,7 @@ ParseResult parse_scene(std::string_view text, std::string_view source_name) noe
             return r;
         }
         try {
-            r.scene = read_scene(root);
+            r.scene = read_scene(root, progress);
         } catch (const SchemaError& e) {
             r.error.kind = ParseError::Kind::schema;
             r.error.key = e.key;
@@ -886,7 +935,7 @@ struct Fd {
 // The file is opened without blocking (a fifo with no writer would block open(2)) and
 // checked with fstat before a byte is read: a directory, a fifo or a device, and a file
 // over max_scene_bytes, get their own message.
-ParseResult load_scene(const std::string& path) noexcept {
+ParseResult load_scene(const std::string& path, Progress* progress) noexcept {
     try {
         const Fd f{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY)};
         if (f.fd < 0) return io_error(path, std::string("cannot open the file: ") + std::strerror(errno));
@@ -904,6 +953,7 @@ ParseResult load_scene(const std::string& path) noexcept {
         if (st.st_size > max_scene_bytes) return too_large(st.st_size);
         std::string text(std::size_t(st.st_size), '\0');
         std::size_t got = 0;
+        if (progress) progress->phase("reading", std::uint64_t(st.st_size));
         for (;;) {
             if (got == text.size()) {  // the file may have grown since fstat
                 if (text.size() > std::size_t(max_scene_bytes)) return too_large((long long)text.size());
@@ -914,9 +964,16 @@ ParseResult load_scene(const std::string& path) noexcept {
             if (n < 0) return io_error(path, std::string("cannot read the file: ") + std::strerror(errno));
             if (n == 0) break;
             got += std::size_t(n);
+            if (progress) progress->set(got);
         }
         text.resize(got);
-        return parse_scene(text, path);
+        if (progress) progress->finish();
+        if (const std::string no = refusal(scene_text_need(text), available_memory(), "parse it"); !no.empty()) {
+            ParseResult r = io_error(path, no);
+            r.error.kind = ParseError::Kind::memory;
+            return r;
+        }
+        return parse_scene(text, path, progress);
     } catch (...) {
         return io_error(path, "cannot read the file");
     }

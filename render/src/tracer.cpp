@@ -9,8 +9,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <future>
 #include <limits>
+#include <optional>
 #include <string>
 #include <thread>
 #include <type_traits>
@@ -37,10 +37,37 @@ struct Candidate {
     Hitd hit;
 };
 
+// The scene's objects and the spheres of its visible lights as the kernel's primitives,
+// in that order (object i is primitive i; the k-th visible light's sphere is primitive
+// objects + k), and their BVH. A polyhedron's planes stay the Scene's: the Scene must
+// outlive it. Planes and unbounded polyhedra sit beside the tree (bvh.hpp).
+struct SceneBvh {
+    std::size_t objects = 0;
+    Bvh<double, 8> bvh;
+};
+
+SceneBvh build_bvh(const Scene& s) {
+    std::vector<Primitive<double>> prims;
+    prims.reserve(s.objects.size() + s.lights.size());
+    for (const Object& o : s.objects)
+        std::visit(
+            [&](const auto& sh) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(sh)>, Polyhedron>)
+                    prims.emplace_back(sh.kernel());
+                else
+                    prims.emplace_back(sh);
+            },
+            o.shape);
+    for (const Light& l : s.lights)
+        if (l.visible()) prims.emplace_back(Sphere<double>{l.position, l.radius});
+    return SceneBvh{s.objects.size(), Bvh<double, 8>(prims)};
+}
+
 template <class M> class Tracer {
 public:
-    Tracer(const Scene& scene, const TraceOptions& opt, Stats& stats)
-        : s_(scene), opt_(opt), st_(stats) {
+    // index: the scene's BVH, or null to ask every object (TraceOptions::bvh).
+    Tracer(const Scene& scene, const TraceOptions& opt, Stats& stats, const SceneBvh* index = nullptr)
+        : s_(scene), opt_(opt), st_(stats), index_(index) {
         for (std::size_t i = 0; i < scene.lights.size(); ++i)
             if (scene.lights[i].visible()) bulbs_.push_back({int(i), {scene.lights[i].position, scene.lights[i].radius}});
     }
@@ -49,8 +76,14 @@ public:
     // Below the root a node is weighed by the tree attenuation of its distance from its
     // parent, the ray's origin (scene.hpp); the background is no node and is not weighed.
     Color trace(const Rayd& ray, int depth, double weight) {
-        const Candidate c = closest(ray);
-        const BulbHit bulb = nearest_bulb(ray, c.t);
+        Candidate c;
+        BulbHit bulb;
+        if (index_) {
+            nearest(ray, c, bulb);
+        } else {
+            c = closest(ray);
+            bulb = nearest_bulb(ray, c.t);
+        }
         if (c.object < 0 && bulb.light < 0) return s_.settings.background;
         const double t = bulb.light >= 0 ? bulb.t : c.t;
         const double f = depth > 1 ? s_.tree_attenuation.factor(t * ray.direction.norm()) : 1;
@@ -180,27 +213,75 @@ private:
         return h.t_enter == r.t_min && h.t_exit == r.t_max && h.t_enter < h.t_exit;
     }
 
+    // Object i as a candidate for the closest surface: its key t (where the ray meets the
+    // surface: t_enter, or t_exit for a ray starting inside the solid), or none (a miss,
+    // or a plane the ray lies in).
+    std::optional<Candidate> candidate(const Rayd& ray, std::size_t i) {
+        const Shape& shape = s_.objects[i].shape;
+        const Hitd h = query(ray, shape);
+        if (!h) return std::nullopt;
+        Candidate c;
+        c.object = int(i);
+        c.hit = h;
+        if (is_plane(shape)) {
+            if (lies_in_plane(ray, h)) return std::nullopt;
+            c.t = h.t_enter;
+        } else {
+            // The interval starts at t_min exactly when the origin is in the solid
+            // (boxes say so with face == -1): the surface is then met on the way out.
+            c.inside = std::holds_alternative<Sphere<double>>(shape) ? h.t_enter == ray.t_min : h.face < 0;
+            c.t = c.inside ? h.t_exit : h.t_enter;
+        }
+        return c;
+    }
+
+    // The brute force: every object in turn, the smallest t, ties to the lowest index.
     Candidate closest(const Rayd& ray) {
         Candidate best;
-        for (std::size_t i = 0; i < s_.objects.size(); ++i) {
-            const Shape& shape = s_.objects[i].shape;
-            const Hitd h = query(ray, shape);
-            if (!h) continue;
-            Candidate c;
-            c.object = int(i);
-            c.hit = h;
-            if (is_plane(shape)) {
-                if (lies_in_plane(ray, h)) continue;
-                c.t = h.t_enter;
-            } else {
-                // The interval starts at t_min exactly when the origin is in the solid
-                // (boxes say so with face == -1): the surface is then met on the way out.
-                c.inside = std::holds_alternative<Sphere<double>>(shape) ? h.t_enter == ray.t_min : h.face < 0;
-                c.t = c.inside ? h.t_exit : h.t_enter;
-            }
-            if (c.t < best.t) best = c;
-        }
+        for (std::size_t i = 0; i < s_.objects.size(); ++i)
+            if (const std::optional<Candidate> c = candidate(ray, i); c && c->t < best.t) best = *c;
         return best;
+    }
+
+    // The same answers as closest() and nearest_bulb(ray, closest(ray).t), from the
+    // objects and bulbs the BVH offers: the object with the smallest t, ties to the lowest
+    // index (whatever the order of the offers), and the bulb with the smallest t_enter
+    // (ties to the lowest light) when it is strictly before that object.
+    // Culling, certified mode: after each offer the BVH's range is lowered to
+    // t_limit = next_up(b), b the smallest key so far (object t or bulb t_enter). An
+    // object that could still win or tie has key t <= b. If the ray starts inside it,
+    // it is met at t_min <= t_limit. Otherwise t is the faithfully rounded exact entry E
+    // (a certified hit, so t_min <= E), and faithful rounding puts E below next_up(t):
+    // E = t when E is a double, else E lies strictly between t's two neighbours. So
+    // t_min <= E < next_up(t) <= next_up(b) = t_limit: the ray meets the object on
+    // [t_min, t_limit] exactly, and the BVH never culls such a primitive (bvh.hpp).
+    // A bulb that could win has t_enter <= b likewise. Every possible winner is thus
+    // asked, with the very query (the same Ray) brute force asks, so the answer is
+    // brute force's bit for bit. In fast and conservative modes t is no exact entry and
+    // the same limit only makes agreement likely (those modes promise none).
+    void nearest(const Rayd& ray, Candidate& best, BulbHit& bulb) {
+        best = Candidate{};
+        bulb = BulbHit{};
+        double limit = ray.t_max;
+        const PreparedRay<double> prepared(ray);
+        index_->bvh.for_each_candidate(prepared, M{}, limit, [&](std::size_t i) {
+            if (i < index_->objects) {
+                const std::optional<Candidate> c = candidate(ray, i);
+                if (c && (c->t < best.t || (c->t == best.t && best.object >= 0 && c->object < best.object))) best = *c;
+            } else {
+                const Bulb& b = bulbs_[i - index_->objects];
+                const Hitd h = query(ray, Shape(b.sphere));
+                if (h && (h.t_enter < bulb.t || (h.t_enter == bulb.t && bulb.light >= 0 && b.light < bulb.light)))
+                    bulb = {b.light, h.t_enter};
+            }
+            const double b = std::min(best.t, bulb.t);
+            if (b < inf) {
+                const double up = std::nextafter(b, inf);
+                if (up < limit) limit = up;
+            }
+            return true;
+        });
+        if (!(bulb.t < best.t)) bulb = BulbHit{-1, best.t};
     }
 
     // --- the hit point, its normal and its error bound (tracer.hpp: offset = E + K) ----
@@ -403,11 +484,54 @@ private:
                                           std::max(sp.offset, underflow_floor(sp.p, l.position - sp.p)));
             r = Rayd{o, l.position - o, 0, 1};
         }
+        if (index_) return shadow_bvh(r);
         double pass = 1;
         for (const Object& obj : s_.objects) {
             const int n = crossings(r, obj);
             if (n == 0) continue;
             const double kt = s_.materials[std::size_t(obj.material)].transparency;
+            pass *= n == 1 ? kt : kt * kt;
+            if (pass <= 0) {
+                ++st_.shadowed;
+                return Color::Zero();
+            }
+        }
+        return Color::Constant(pass);
+    }
+
+    // The same fraction from the objects the BVH offers (the lights' spheres cast no
+    // shadow). Certified: every object the segment meets exactly is offered (its range is
+    // never lowered), and crossings() asks each with the same query as the loop above.
+    // The product of the transparencies does not commute in floating point, so the
+    // crossings are collected and multiplied in object order, as the loop does: the same
+    // factors in the same order, the same bits. An opaque object met (K_t = 0) makes it 0
+    // whatever the order, and stops the search at once, as 0 is also where the loop ends
+    // (a product of factors in [0, 1] is 0 exactly when some prefix of it is).
+    Color shadow_bvh(const Rayd& r) {
+        double limit = r.t_max;
+        const PreparedRay<double> prepared(r);
+        crossed_.clear();
+        bool blocked = false;
+        index_->bvh.for_each_candidate(prepared, M{}, limit, [&](std::size_t i) {
+            if (i >= index_->objects) return true;
+            const Object& obj = s_.objects[i];
+            const int n = crossings(r, obj);
+            if (n == 0) return true;
+            if (!(s_.materials[std::size_t(obj.material)].transparency > 0)) {
+                blocked = true;
+                return false;
+            }
+            crossed_.push_back({i, n});
+            return true;
+        });
+        if (blocked) {
+            ++st_.shadowed;
+            return Color::Zero();
+        }
+        std::sort(crossed_.begin(), crossed_.end());
+        double pass = 1;
+        for (const auto& [i, n] : crossed_) {
+            const double kt = s_.materials[std::size_t(s_.objects[i].material)].transparency;
             pass *= n == 1 ? kt : kt * kt;
             if (pass <= 0) {
                 ++st_.shadowed;
@@ -425,7 +549,9 @@ private:
     const Scene& s_;
     const TraceOptions& opt_;
     Stats& st_;
-    std::vector<Bulb> bulbs_;  // the visible lights
+    const SceneBvh* index_;                              // null: every object is asked
+    std::vector<Bulb> bulbs_;                            // the visible lights
+    std::vector<std::pair<std::size_t, int>> crossed_;  // shadow_bvh's (object, crossings)
 };
 
 template <class M> Color pixel(Tracer<M>& tr, const Scene& s, int x, int y, Stats& st) {
@@ -452,43 +578,36 @@ template <class M> RenderResult render_in(const Scene& s, const RenderOptions& o
     const int all = int(std::max(1u, std::thread::hardware_concurrency()));
     res.threads = std::max(0, std::min(opt.threads > 0 ? opt.threads : all, h));
     std::vector<Stats> stats(std::size_t(res.threads));
-    std::atomic<int> next_row{0}, rows_done{0};
-    std::promise<void> finished;  // set with the last row
-    const std::future<void> done = finished.get_future();
+    std::atomic<int> next_row{0};
+    // A bar on stderr once the render has lasted a second (progress.hpp): the caller's, or
+    // one of its own when asked for.
+    std::optional<Progress> own;
+    Progress* progress = opt.reporter;
+    if (!progress && opt.progress && h > 0) progress = &own.emplace(true);
     const auto t0 = clock::now();
+    std::optional<SceneBvh> index;
+    if (opt.trace.bvh) {
+        if (progress) progress->phase("building the BVH of " + std::to_string(s.objects.size()) + " objects");
+        index.emplace(build_bvh(s));
+    }
+    if (progress) progress->phase("rendering", std::uint64_t(std::max(h, 0)));
     std::vector<std::thread> pool;
     for (std::size_t k = 0; k < stats.size(); ++k)
         pool.emplace_back([&, k] {
             Stats st;
-            Tracer<M> tr(s, opt.trace, st);
+            Tracer<M> tr(s, opt.trace, st, index ? &*index : nullptr);
             for (int y; (y = next_row++) < h;) {
                 for (int x = 0; x < w; ++x) {
                     const Color c = pixel(tr, s, x, y, st);
                     std::uint8_t* px = res.image.at(x, y);
                     for (int ch = 0; ch < 3; ++ch) px[ch] = to_byte(c[ch]);
                 }
-                if (++rows_done == h) finished.set_value();
+                if (progress) progress->add(1);
             }
             stats[k] = st;
         });
-    if (opt.progress && h > 0) {
-        // A bar on stderr, redrawn every 100 ms once the render has lasted a second.
-        bool shown = false;
-        const auto show = [&] {
-            const double sec = std::chrono::duration<double>(clock::now() - t0).count();
-            if (!shown && sec <= 1) return;
-            shown = true;
-            const int done_rows = rows_done, filled = done_rows * 40 / h;
-            const std::string bar = std::string(std::size_t(filled), '#') + std::string(std::size_t(40 - filled), '.');
-            std::fprintf(stderr, "\rrendering [%s] %3d%% %6.1fs", bar.c_str(), done_rows * 100 / h, sec);
-        };
-        while (done.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) show();
-        if (shown) {
-            show();
-            std::fputc('\n', stderr);
-        }
-    }
     for (std::thread& t : pool) t.join();
+    if (progress) progress->finish();
     res.seconds = std::chrono::duration<double>(clock::now() - t0).count();
     for (const Stats& st : stats) res.stats += st;
     return res;
@@ -545,7 +664,9 @@ Color radiance(const Scene& scene, double px, double py, const TraceOptions& opt
     return in_mode(scene.settings.mode, [&](auto tag) -> Color {
         Stats local;
         Stats& st = stats ? *stats : local;
-        Tracer<decltype(tag)> tr(scene, options, st);
+        std::optional<SceneBvh> index;
+        if (options.bvh) index.emplace(build_bvh(scene));
+        Tracer<decltype(tag)> tr(scene, options, st, index ? &*index : nullptr);
         ++st.primary;
         return tr.trace(camera_ray(scene.camera, scene.settings.width, scene.settings.height, px, py), 1, 1.0);
     });

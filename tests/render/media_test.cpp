@@ -170,20 +170,29 @@ TEST_P(Media, NoWorkForUnusedFeatures) {
     const RenderResult no_mirrors = render(matte_only, opt);
     EXPECT_EQ(no_mirrors.stats.reflection, 0u);
     EXPECT_EQ(no_mirrors.stats.refraction, 0u);
-    // Each primary ray queries every object and every visible light; a shadow ray at most
-    // every object (it stops at the first opaque blocker; lights cast no shadow); nothing
-    // else queries.
+    // Without the BVH, each primary ray queries every object and every visible light; a
+    // shadow ray at most every object (it stops at the first opaque blocker; lights cast
+    // no shadow); nothing else queries. The BVH asks no more than that.
+    RenderOptions brute = opt;
+    brute.trace.bvh = false;
+    const RenderResult no_mirrors_brute = render(matte_only, brute);
+    if (GetParam() == Mode::certified) {
+        EXPECT_TRUE(no_mirrors_brute.image.rgb == no_mirrors.image.rgb);
+    }
     std::size_t bulbs = 0;
     for (const Light& l : s.lights) bulbs += l.visible();
     EXPECT_GT(bulbs, 0u);
-    const auto& st = no_mirrors.stats;
+    const auto& st = no_mirrors_brute.stats;
     EXPECT_GE(st.kernel_queries, st.primary * (s.objects.size() + bulbs));
     EXPECT_LE(st.kernel_queries, st.primary * (s.objects.size() + bulbs) + st.shadow * s.objects.size());
+    EXPECT_LE(no_mirrors.stats.kernel_queries, st.kernel_queries);
     // Without visible lights, the lights' spheres cost nothing.
     Scene points = matte_only;
     for (Light& l : points.lights) l.radius = 0;
-    const RenderResult no_bulbs = render(points, opt);
-    EXPECT_LE(no_bulbs.stats.kernel_queries, (no_bulbs.stats.primary + no_bulbs.stats.shadow) * s.objects.size());
+    for (const RenderOptions& o : {opt, brute}) {
+        const RenderResult no_bulbs = render(points, o);
+        EXPECT_LE(no_bulbs.stats.kernel_queries, (no_bulbs.stats.primary + no_bulbs.stats.shadow) * s.objects.size());
+    }
 }
 
 INSTANTIATE_TEST_SUITE_P(Modes, Media, ::testing::ValuesIn(every_mode()),

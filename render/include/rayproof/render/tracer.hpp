@@ -1,5 +1,8 @@
 // rayproof/render/tracer.hpp — a Whitted-style recursive ray tracer on top of the kernel.
 //
+// Which objects a ray asks is decided by a BVH over the scene (rayproof::Bvh, built once
+// per render; planes and unbounded polyhedra sit beside its tree): camera, reflected,
+// refracted and shadow rays, and the visible lights' spheres, all go through it.
 // Every ray query is a kernel call in the scene's mode: rayproof::intersect for primary,
 // reflected and refracted rays and the spheres of visible lights, rayproof::verdict (the
 // yes/no query) for shadow rays against opaque solids, which need no t (against a plane
@@ -36,6 +39,7 @@
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/surface_point.hpp>
 #include <rayproof/render/image.hpp>
+#include <rayproof/render/progress.hpp>
 #include <rayproof/render/scene.hpp>
 
 #include <cstdint>
@@ -60,6 +64,12 @@ struct TraceOptions {
     // miss is not asked against the planes. Off: every plane is asked. The image is the
     // same either way (the ball holds the solid exactly); switchable to measure it.
     bool polyhedron_prefilter = true;
+    // Which objects a ray asks: those the scene's BVH (rayproof/bvh.hpp, one per render)
+    // offers as candidates, or, off, every object in turn (the brute force the BVH must
+    // equal; kept for the tests and to measure it). In certified mode the image is the
+    // same bit for bit either way (tracer.cpp derives why); fast and conservative promise
+    // no agreement with the exact answer, so neither can the BVH's culling of them.
+    bool bvh = true;
 };
 
 struct Stats {
@@ -74,6 +84,7 @@ struct Stats {
 struct RenderOptions {
     int threads = 0;        // threads rendering rows (0: every hardware thread), never more than rows
     bool progress = false;  // draw a progress bar on stderr if the render lasts over a second
+    Progress* reporter = nullptr;  // or report the rows here (progress.hpp), the phase "rendering"
     TraceOptions trace;
 };
 
