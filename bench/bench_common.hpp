@@ -8,6 +8,11 @@
 //   paired/<shape>/<float|double>/uniform/certified_over_fast
 //                                                       the ratio certified / fast measured
 //                                                       in pairs (counter "ratio")
+//   paired/<shape>/<float|double>/uniform/fast_over_textbook
+//   paired/<shape>/<float|double>/uniform/conservative_over_fast
+//   paired/<shape>/<float|double>/grazing/certified_over_fast
+//                                                       the ladder of issue #17's targets,
+//                                                       each ratio in pairs likewise
 //   paired/<shape>/<float|double>/uniform/epeck_over_certified_verdict
 //                                                       CGAL Epeck's do_intersect over the
 //                                                       certified verdict query, in pairs
@@ -133,10 +138,11 @@ void time_scalar(benchmark::State& st, const std::string& key, const std::string
 // cases and its code evicted, and pay for that alone. The benchmark's own time is that
 // of all four passes and is not reported.
 // a_key and b_key name the scalar benchmarks whose check passes (run once per key)
-// must have passed.
+// must have passed; the cases are the workload's timed ones (uniform unless named).
 template <class T, class Shape, class A, class B>
-void time_pair(benchmark::State& st, std::size_t n, const std::string& a_key, A a, const std::string& b_key, B b) {
-    const auto& all = timed_cases<T, Shape>("uniform");
+void time_pair(benchmark::State& st, std::size_t n, const std::string& a_key, A a, const std::string& b_key, B b,
+               const std::string& workload_name = "uniform") {
+    const auto& all = timed_cases<T, Shape>(workload_name);
     n = std::min(n, all.size());
     const auto checked = [&](const std::string& key, auto query) {
         return passes_watchdog(st, key, n, [&](std::size_t i) { benchmark::DoNotOptimize(query(all[i].ray, all[i].shape)); });
@@ -170,13 +176,44 @@ template <class T, class Shape> RAYPROOF_BENCH_INLINE inline Hit<T> certified_ve
     return h;
 }
 
-// certified / fast in pairs (a pass takes well under a millisecond).
-template <class T, class Shape> void time_paired(benchmark::State& st) {
-    time_pair<T, Shape>(
-        st, options().cases, bench_name<T, Shape>("scalar", "uniform", "fast"),
-        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::fast); },
-        bench_name<T, Shape>("scalar", "uniform", "certified"),
-        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::certified); });
+// The ladder's ratios in pairs (a pass takes well under a millisecond): `num` over
+// `den` on workload w, both scalar methods of register_scalar_kernel below.
+template <class T, class Shape, class Num, class Den>
+void time_ladder_pair(benchmark::State& st, const std::string& w, const char* num, Num nq, const char* den, Den dq) {
+    time_pair<T, Shape>(st, options().cases, bench_name<T, Shape>("scalar", w, den), dq,
+                        bench_name<T, Shape>("scalar", w, num), nq, w);
+}
+template <class T, class Shape> void register_ladder() {
+    const auto reg = [](const std::string& w, const char* pair, auto f) {
+        benchmark::RegisterBenchmark(bench_name<T, Shape>("paired", w, pair).c_str(), f);
+    };
+    // The same lambdas as the scalar benchmarks time alone, so that a pair times what the
+    // table's columns time.
+    const auto fast = [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE {
+        return intersect(r, kernel_shape(s), rayproof::fast);
+    };
+    const auto conservative = [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE {
+        return intersect(r, kernel_shape(s), rayproof::conservative);
+    };
+    const auto certified = [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE {
+        return intersect(r, kernel_shape(s), rayproof::certified);
+    };
+    const auto textbook = [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE {
+        return baseline::textbook(r, kernel_shape(s));
+    };
+    reg("uniform", "certified_over_fast", [=](benchmark::State& st) {
+        time_ladder_pair<T, Shape>(st, "uniform", "certified", certified, "fast", fast);
+    });
+    reg("uniform", "fast_over_textbook", [=](benchmark::State& st) {
+        time_ladder_pair<T, Shape>(st, "uniform", "fast", fast, "textbook", textbook);
+    });
+    reg("uniform", "conservative_over_fast", [=](benchmark::State& st) {
+        time_ladder_pair<T, Shape>(st, "uniform", "conservative", conservative, "fast", fast);
+    });
+    if constexpr (has_workload<Shape>("grazing"))
+        reg("grazing", "certified_over_fast", [=](benchmark::State& st) {
+            time_ladder_pair<T, Shape>(st, "grazing", "certified", certified, "fast", fast);
+        });
 }
 
 // Registers the kernel's three modes and the plain baselines for one shape and type.
@@ -238,10 +275,8 @@ template <class T, class Shape> void register_batch() {
 
 // Every workload of the shape, scalar and batch, in float and double.
 template <template <class> class S> void register_shape() {
-    benchmark::RegisterBenchmark(bench_name<double, S<double>>("paired", "uniform", "certified_over_fast").c_str(),
-                                 [](benchmark::State& st) { time_paired<double, S<double>>(st); });
-    benchmark::RegisterBenchmark(bench_name<float, S<float>>("paired", "uniform", "certified_over_fast").c_str(),
-                                 [](benchmark::State& st) { time_paired<float, S<float>>(st); });
+    register_ladder<double, S<double>>();
+    register_ladder<float, S<float>>();
     for (const std::string_view w : kWorkloads) {
         if (!has_workload<S<float>>(w)) continue;
         register_scalar_kernel<double, S<double>>(w);

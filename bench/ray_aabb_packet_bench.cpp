@@ -12,13 +12,26 @@
 // The counter ns_per_box is the time per call divided by W. The machine may be shared:
 // run with --benchmark_repetitions and --benchmark_enable_random_interleaving so that
 // each method's repetitions alternate with the others' and compare the medians.
+//
+// Embree (float, W = 8, where Embree 3 is found): its node test is not public, so each
+// packet is an Embree scene of W user-geometry boxes (one box per primitive, the box as
+// its bounds) and the ray goes through rtcIntersect1, or rtcIntersect8 with rays k..k+7
+// against scene k; the primitive callback only counts its calls (a box whose bounds
+// Embree's traversal hit), so the time is Embree's BVH node tests plus its call and
+// dispatch, per box test. Embree's node test is not exact (no rounding direction, its own
+// robust flag aside), and it is asked with t_near = 0 (every ray here has t_min = 0).
 #include "baselines.hpp"
 
 #include <rayproof/ray_aabb_packet.hpp>
 
 #include <benchmark/benchmark.h>
 
+#if RAYPROOF_BENCH_HAVE_EMBREE
+#include <embree3/rtcore.h>
+#endif
+
 #include <cstdint>
+#include <stdexcept>
 #include <random>
 #include <vector>
 
@@ -123,6 +136,121 @@ template <class T, int W> void BM_packet_intersect_certified(benchmark::State& s
         }
     set_counters<W>(state, hits);
 }
+
+#if RAYPROOF_BENCH_HAVE_EMBREE
+// One Embree scene per packet of the float, W = 8 workload (see the head of the file).
+class EmbreeBoxes {
+public:
+    static constexpr int W = 8;
+    EmbreeBoxes() : device_(rtcNewDevice("threads=1")) {
+        if (!device_) throw std::runtime_error("embree: rtcNewDevice failed");
+        const auto& w = Workload<float, W>::get();
+        for (const AabbPacket<float, W>& p : w.packets) {
+            RTCScene scene = rtcNewScene(device_);
+            RTCGeometry g = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_USER);
+            rtcSetGeometryUserPrimitiveCount(g, W);
+            rtcSetGeometryUserData(g, const_cast<AabbPacket<float, W>*>(&p));
+            rtcSetGeometryBoundsFunction(g, &bounds, nullptr);
+            rtcSetGeometryIntersectFunction(g, &count_calls);
+            rtcCommitGeometry(g);
+            rtcAttachGeometry(scene, g);
+            rtcReleaseGeometry(g);
+            rtcCommitScene(scene);
+            scenes_.push_back(scene);
+        }
+    }
+    ~EmbreeBoxes() {
+        for (RTCScene s : scenes_) rtcReleaseScene(s);
+        rtcReleaseDevice(device_);
+    }
+    EmbreeBoxes(const EmbreeBoxes&) = delete;
+    EmbreeBoxes& operator=(const EmbreeBoxes&) = delete;
+    static const EmbreeBoxes& get() {
+        static const EmbreeBoxes e;
+        return e;
+    }
+    RTCScene scene(int k) const { return scenes_[std::size_t(k)]; }
+    // Calls of the primitive callback (boxes Embree's traversal hit) since the last read.
+    static std::uint64_t take_calls() {
+        const std::uint64_t c = calls_;
+        calls_ = 0;
+        return c;
+    }
+
+private:
+    static void bounds(const RTCBoundsFunctionArguments* a) {
+        const auto* p = static_cast<const AabbPacket<float, W>*>(a->geometryUserPtr);
+        const unsigned i = a->primID;
+        *a->bounds_o = RTCBounds{p->lo[0][i], p->lo[1][i], p->lo[2][i], 0, p->hi[0][i], p->hi[1][i], p->hi[2][i], 0};
+    }
+    static void count_calls(const RTCIntersectFunctionNArguments* a) {
+        for (unsigned i = 0; i < a->N; ++i) calls_ += a->valid[i] == -1;
+    }
+    static inline std::uint64_t calls_ = 0;
+    RTCDevice device_;
+    std::vector<RTCScene> scenes_;
+};
+
+void BM_embree_intersect1(benchmark::State& state) {
+    const auto& w = Workload<float, 8>::get();
+    const EmbreeBoxes& e = EmbreeBoxes::get();
+    EmbreeBoxes::take_calls();
+    for (auto _ : state)
+        for (int k = 0; k < kN; ++k) {
+            const Ray<float>& r = w.raw[std::size_t(k)];
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            RTCRayHit rh{};
+            rh.ray.org_x = r.origin[0];
+            rh.ray.org_y = r.origin[1];
+            rh.ray.org_z = r.origin[2];
+            rh.ray.dir_x = r.direction[0];
+            rh.ray.dir_y = r.direction[1];
+            rh.ray.dir_z = r.direction[2];
+            rh.ray.tnear = 0;
+            rh.ray.tfar = r.t_max;
+            rh.ray.mask = ~0u;
+            rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+            rtcIntersect1(e.scene(k), &context, &rh);
+            benchmark::DoNotOptimize(rh);
+        }
+    set_counters<8>(state, EmbreeBoxes::take_calls());
+}
+
+void BM_embree_intersect8(benchmark::State& state) {
+    const auto& w = Workload<float, 8>::get();
+    const EmbreeBoxes& e = EmbreeBoxes::get();
+    alignas(32) int valid[8];
+    for (int& v : valid) v = -1;
+    EmbreeBoxes::take_calls();
+    for (auto _ : state)
+        for (int k = 0; k < kN; k += 8) {
+            // Rays k..k+7 against the scene of packet k: 8 rays · W boxes per call, so the
+            // time per call is divided as for 8 calls of one ray each.
+            alignas(32) RTCRayHit8 rh{};
+            for (int j = 0; j < 8; ++j) {
+                const Ray<float>& r = w.raw[std::size_t(k + j)];
+                rh.ray.org_x[j] = r.origin[0];
+                rh.ray.org_y[j] = r.origin[1];
+                rh.ray.org_z[j] = r.origin[2];
+                rh.ray.dir_x[j] = r.direction[0];
+                rh.ray.dir_y[j] = r.direction[1];
+                rh.ray.dir_z[j] = r.direction[2];
+                rh.ray.tnear[j] = 0;
+                rh.ray.tfar[j] = r.t_max;
+                rh.ray.mask[j] = ~0u;
+                rh.hit.geomID[j] = RTC_INVALID_GEOMETRY_ID;
+            }
+            RTCIntersectContext context;
+            rtcInitIntersectContext(&context);
+            rtcIntersect8(valid, e.scene(k), &context, &rh);
+            benchmark::DoNotOptimize(rh);
+        }
+    set_counters<8>(state, EmbreeBoxes::take_calls());
+}
+BENCHMARK(BM_embree_intersect1);
+BENCHMARK(BM_embree_intersect8);
+#endif
 
 #define RAYPROOF_PACKET_BENCH(T, W)                                          \
     BENCHMARK(BM_soa_slab<T, W>);                                            \

@@ -307,6 +307,9 @@ struct Report {
     std::vector<std::pair<std::string, double>> tracer;  // label -> seconds
     std::map<std::string, double> tracer_facts;         // rays-MODE, queries-MODE, parity-*
     std::map<std::string, double> bvh;                  // --bvh: rayproof_bvh_bench and the generated scenes' timings
+    std::map<std::string, double> packet_ns;            // packet benchmark -> median ns per box test
+    std::map<std::string, double> packet_hits;          // packet benchmark -> share of box tests that hit
+    std::string packet_build;                           // which packet benchmark ran (its backend)
     json context;
 
     const Timing* scalar(const std::string& shape, const std::string& type, const std::string& w,
@@ -351,6 +354,116 @@ std::string summary_table(const Report& r) {
                       rate == r.rates.end() ? "—" : num(rate->second)});
         }
     return o;
+}
+
+// ---- the ladder (issue #17): each mode within its factor of the one below ---------
+// Every ratio in pairs (bench_common.hpp, register_ladder): fast over the textbook code of
+// the shape, conservative over fast and certified over fast on uniform input, and
+// certified over fast on the grazing-heavy workload. A cell reads "1.27× no" against its
+// limit; "—" where the pair did not run.
+struct Rung {
+    const char* workload;
+    const char* pair;
+    double limit;
+};
+constexpr Rung kLadder[] = {
+    {"uniform", "fast_over_textbook", 1.25},
+    {"uniform", "conservative_over_fast", 1.3},
+    {"uniform", "certified_over_fast", 1.5},
+    {"grazing", "certified_over_fast", 10},
+};
+
+std::string ladder_table(const Report& r) {
+    std::string o = row({"shape", "type", "fast / textbook (≤ 1.25)", "conservative / fast (≤ 1.3)",
+                         "certified / fast (≤ 1.5)", "certified / fast, grazing (≤ 10)", "targets met"}) +
+                    rule(2, 5);
+    int met_all = 0, cells_all = 0;
+    for (const auto& s : kShapes)
+        for (const auto& t : kTypes) {
+            std::vector<std::string> cells = {kShapeLabel.at(s), t};
+            int met = 0, cells_here = 0;
+            for (const Rung& g : kLadder) {
+                const double q = r.paired(s, t, g.workload, g.pair);
+                if (std::isnan(q)) {
+                    cells.push_back("—");
+                    continue;
+                }
+                ++cells_here;
+                met += q <= g.limit;
+                cells.push_back(num(q, 3) + "× " + (q <= g.limit ? "yes" : "**no**"));
+            }
+            cells.push_back(fmt::format("{} of {}", met, cells_here));
+            met_all += met;
+            cells_all += cells_here;
+            o += row(cells);
+        }
+    return prose()("ladder", {{"table", o}, {"met", std::to_string(met_all)}, {"cells", std::to_string(cells_all)}});
+}
+
+// ---- the box packets (issue #17): ns per box test ----------------------------------
+// rayproof_packet_bench's JSON: the median over repetitions of each benchmark's counter
+// ns_per_box (ray_aabb_packet_bench.cpp), keyed by its name ("BM_soa_slab<float, 8>").
+void read_packets(const std::string& path, Report& r) {
+    const std::optional<json> j = read_json(path);
+    if (!j) return;
+    if (j->contains("context")) {
+        const std::string exe = (*j)["context"].value("executable", "");
+        r.packet_build = exe.substr(exe.find_last_of('/') + 1);
+    }
+    for (const auto& b : (*j)["benchmarks"]) {
+        if (!b.contains("ns_per_box")) continue;
+        const std::string run = b.value("run_name", b.value("name", ""));
+        const bool median = b.value("run_type", "") == "aggregate" && b.value("aggregate_name", "") == "median";
+        if (median || (b.value("run_type", "") != "aggregate" && !r.packet_ns.count(run))) {
+            r.packet_ns[run] = b["ns_per_box"].get<double>() * 1e9;  // the counter is in seconds
+            if (b.contains("hit_rate")) r.packet_hits[run] = b["hit_rate"].get<double>();
+        }
+    }
+}
+
+std::string packets_table(const Report& r) {
+    if (r.packet_ns.empty()) return prose()("packets.none");
+    const auto ns = [&](const std::string& bench, const std::string& type, int w) {
+        const auto it = r.packet_ns.find(fmt::format("{}<{}, {}>", bench, type, w));
+        return it == r.packet_ns.end() ? NAN : it->second;
+    };
+    const auto over = [](double q, double limit) {
+        return std::isnan(q) ? std::string("—") : num(q, 3) + "× " + (q <= limit ? "yes" : "**no**");
+    };
+    std::string o = row({"type", "W", "branch-free SoA loop", "fast verdict", "fast / loop (≤ 1.25)",
+                         "certified verdict", "certified / loop (≤ 2)", "certified verdict, no guard",
+                         "certified intersect", "certified verdict / float's (≤ 2)"}) +
+                    rule(2, 8);
+    const auto mode_ns = [&](const std::string& type, int w, const char* mode) {
+        const auto it = r.packet_ns.find(fmt::format("BM_packet_verdict<{}, {}, {}_t>", type, w, mode));
+        return it == r.packet_ns.end() ? NAN : it->second;
+    };
+    const double float_cert = mode_ns("float", 8, "certified");
+    for (const auto& [type, w] : std::vector<std::pair<std::string, int>>{{"float", 8}, {"double", 4}, {"double", 8}}) {
+        const double loop = ns("BM_soa_slab", type, w), fast = mode_ns(type, w, "fast");
+        const double cert = mode_ns(type, w, "certified");
+        o += row({type, std::to_string(w), num(loop), num(fast), over(fast / loop, 1.25), num(cert),
+                  over(cert / loop, 2), num(ns("BM_packet_verdict_certified_unguarded", type, w)),
+                  num(ns("BM_packet_intersect_certified", type, w)),
+                  type == "double" && w == 8 ? over(cert / float_cert, 2) : "—"});
+    }
+    const auto embree = [&](const char* name) {
+        const auto it = r.packet_ns.find(name);
+        return it == r.packet_ns.end() ? NAN : it->second;
+    };
+    const double e1 = embree("BM_embree_intersect1"), e8 = embree("BM_embree_intersect8");
+    const auto hits = [&](const char* name) {
+        const auto it = r.packet_hits.find(name);
+        return it == r.packet_hits.end() ? NAN : it->second;
+    };
+    const std::string embree_rows =
+        std::isnan(e1) && std::isnan(e8)
+            ? prose()("packets.no_embree")
+            : prose()("packets.embree", {{"e1", num(e1)}, {"e8", num(e8)}, {"cert", num(float_cert)},
+                                         {"r1", num(e1 / float_cert, 3)}, {"r8", num(e8 / float_cert, 3)},
+                                         {"h1", num(hits("BM_embree_intersect1"), 3)},
+                                         {"h8", num(hits("BM_embree_intersect8"), 3)}});
+    return prose()("packets", {{"table", o}, {"embree", embree_rows}, {"build", r.packet_build}});
 }
 
 // ---- the acceptance checks ----------------------------------------------------------
@@ -866,7 +979,7 @@ void write_plot_script(const std::string& path, const std::string& png) {
 // ---- the command line and the outputs -----------------------------------------------
 struct Args {
     std::string bench, counters, tracer, tracer_facts, md, plot_dir, plot_png, plot_ref, tracer_png, audit, summary_md;
-    std::string render_md;
+    std::string render_md, packets;
     std::vector<std::string> accuracy, bvh;
     std::vector<std::pair<std::string, std::string>> meta;
 };
@@ -886,6 +999,7 @@ std::optional<int> parse_args(int argc, char** argv, Args& a) {
     app.add_option("--bvh", a.bvh,
                    "the BVH timings: lines KEY VALUE (rayproof_bvh_bench's and the generated scenes', scene-N-MODE "
                    "seconds; repeatable)");
+    app.add_option("--packets", a.packets, "rayproof_packet_bench's JSON (the box packets' table)");
     app.add_option("--render-md", a.render_md, "write render/README.md's paragraph on speed here");
     app.add_option("--meta", meta, "a line of the report's head (repeatable)")
         ->type_name("KEY=VALUE")
@@ -910,6 +1024,7 @@ Report load(const Args& a) {
     r.timing = read_bench(a.bench, nullptr, &r.context);
     if (!a.counters.empty()) r.counters_timing = read_bench(a.counters, &r.rates, nullptr);
     r.accuracy = read_accuracy(a.accuracy);
+    if (!a.packets.empty()) read_packets(a.packets, r);
     if (!a.tracer.empty()) {
         std::ifstream in(a.tracer);
         std::string label;
@@ -957,6 +1072,7 @@ std::string full_report(const Report& r, const Args& a, const Vars& common) {
     Vars v = common;
     v["plot"] = a.plot_ref.empty() ? "" : prose()("report.plot", {{"plot_ref", a.plot_ref}});
     v["batch"] = batch_table(r);
+    v["packets"] = packets_table(r);
     v["fp_env"] = fp_env_table(r);
     v["exact_stage"] = exact_stage_table(r);
     v["tracer"] = tracer_table(r, a.tracer_png);
@@ -982,7 +1098,8 @@ int main(int argc, char** argv) {
     Args a;
     if (const auto status = parse_args(argc, argv, a)) return *status;
     const Report r = load(a);
-    const Vars common = {{"head", head(r)}, {"summary", summary_table(r)}, {"checks", checks(r)}};
+    const Vars common = {{"head", head(r)}, {"summary", summary_table(r)}, {"ladder", ladder_table(r)},
+                         {"checks", checks(r)}};
     std::cout << prose()("stdout", common);
     if (!a.md.empty()) std::ofstream(a.md) << full_report(r, a, common);
     if (!a.summary_md.empty()) std::ofstream(a.summary_md) << summary_report(a, common);

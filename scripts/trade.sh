@@ -97,6 +97,18 @@ t0=$(date +%s)
   --benchmark_out="$OUT/bench.json" --benchmark_out_format=json >"$OUT/bench.log" 2>&1
 echo "   $(( $(date +%s) - t0 )) s"
 
+echo "== box packets ($REPS repetitions, median)"
+t0=$(date +%s)
+# The AVX2 build where the compiler made one and the CPU runs it, else the default (SSE2).
+packet_bench="$B/rayproof_packet_bench"
+if [ -x "$B/rayproof_packet_bench_avx2" ] && grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
+  packet_bench="$B/rayproof_packet_bench_avx2"
+fi
+"$packet_bench" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
+  --benchmark_enable_random_interleaving=true --benchmark_min_time="$MIN_TIME" \
+  --benchmark_out="$OUT/packets.json" --benchmark_out_format=json >"$OUT/packets.log" 2>&1
+echo "   $(( $(date +%s) - t0 )) s"
+
 echo "== exact-stage counts"
 t0=$(date +%s)
 "$B/rayproof_bench_counters" --benchmark_min_time=0.01 --count_cases="$COUNT" \
@@ -215,7 +227,7 @@ stages_meta=()
 if [ "$ONLY" = tracer ]; then
   stages_meta=(--meta "stages=the tracer's sections (POV-Ray, tracer and BVH) from this run; every other table from the full run of $earlier")
 fi
-"$B/rayproof_trade_report" --bench "$OUT/bench.json" --counters "$OUT/counters.json" \
+"$B/rayproof_trade_report" --bench "$OUT/bench.json" --counters "$OUT/counters.json" --packets "$OUT/packets.json" \
   --accuracy "$OUT/accuracy_boxes.csv" --accuracy "$OUT/accuracy_sphere.csv" --tracer "$OUT/tracer.txt" \
   $( [ -s "$OUT/audit.md" ] && echo --audit "$OUT/audit.md" ) \
   --tracer-facts "$OUT/tracer_facts.txt" --render-md "$OUT/render_speed.md" \
