@@ -8,6 +8,11 @@
 //   paired/<shape>/<float|double>/uniform/certified_over_fast
 //                                                       the ratio certified / fast measured
 //                                                       in pairs (counter "ratio")
+//   paired/<shape>/<float|double>/uniform/conservative_over_fast
+//   paired/<shape>/<float|double>/uniform/fast_over_textbook
+//                                                       the rest of the ladder, the same way
+//                                                       (counters a_ns and b_ns: each half's
+//                                                       ns per query, medians over the pairs)
 //   paired/<shape>/<float|double>/uniform/epeck_over_certified_verdict
 //                                                       CGAL Epeck's do_intersect over the
 //                                                       certified verdict query, in pairs
@@ -150,16 +155,24 @@ void time_pair(benchmark::State& st, std::size_t n, const std::string& a_key, A 
         benchmark::ClobberMemory();
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
-    std::vector<double> ratios;
+    std::vector<double> ratios, a_ns, b_ns;
     for (auto _ : st) {
         pass(a);  // warm-up, untimed
         const double ta = pass(a);
         pass(b);
         const double tb = pass(b);
         ratios.push_back(tb / ta);
+        a_ns.push_back(ta / double(n) * 1e9);
+        b_ns.push_back(tb / double(n) * 1e9);
     }
-    std::nth_element(ratios.begin(), ratios.begin() + std::ptrdiff_t(ratios.size() / 2), ratios.end());
-    st.counters["ratio"] = ratios.empty() ? 0.0 : ratios[ratios.size() / 2];
+    const auto median = [](std::vector<double>& v) {
+        if (v.empty()) return 0.0;
+        std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+        return v[v.size() / 2];
+    };
+    st.counters["ratio"] = median(ratios);
+    st.counters["a_ns"] = median(a_ns);  // ns per query of each half, medians over the pairs
+    st.counters["b_ns"] = median(b_ns);
     st.counters["cases"] = double(n);
 }
 
@@ -177,6 +190,23 @@ template <class T, class Shape> void time_paired(benchmark::State& st) {
         [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::fast); },
         bench_name<T, Shape>("scalar", "uniform", "certified"),
         [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::certified); });
+}
+
+// The rest of the ladder in pairs, the same way: conservative / fast and fast /
+// textbook (the mode against the plain code of its shape).
+template <class T, class Shape> void time_paired_conservative(benchmark::State& st) {
+    time_pair<T, Shape>(
+        st, options().cases, bench_name<T, Shape>("scalar", "uniform", "fast"),
+        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::fast); },
+        bench_name<T, Shape>("scalar", "uniform", "conservative"),
+        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::conservative); });
+}
+template <class T, class Shape> void time_paired_textbook(benchmark::State& st) {
+    time_pair<T, Shape>(
+        st, options().cases, bench_name<T, Shape>("scalar", "uniform", "textbook"),
+        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return baseline::textbook(r, kernel_shape(s)); },
+        bench_name<T, Shape>("scalar", "uniform", "fast"),
+        [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, kernel_shape(s), rayproof::fast); });
 }
 
 // Registers the kernel's three modes and the plain baselines for one shape and type.
@@ -242,6 +272,14 @@ template <template <class> class S> void register_shape() {
                                  [](benchmark::State& st) { time_paired<double, S<double>>(st); });
     benchmark::RegisterBenchmark(bench_name<float, S<float>>("paired", "uniform", "certified_over_fast").c_str(),
                                  [](benchmark::State& st) { time_paired<float, S<float>>(st); });
+    benchmark::RegisterBenchmark(bench_name<double, S<double>>("paired", "uniform", "conservative_over_fast").c_str(),
+                                 [](benchmark::State& st) { time_paired_conservative<double, S<double>>(st); });
+    benchmark::RegisterBenchmark(bench_name<float, S<float>>("paired", "uniform", "conservative_over_fast").c_str(),
+                                 [](benchmark::State& st) { time_paired_conservative<float, S<float>>(st); });
+    benchmark::RegisterBenchmark(bench_name<double, S<double>>("paired", "uniform", "fast_over_textbook").c_str(),
+                                 [](benchmark::State& st) { time_paired_textbook<double, S<double>>(st); });
+    benchmark::RegisterBenchmark(bench_name<float, S<float>>("paired", "uniform", "fast_over_textbook").c_str(),
+                                 [](benchmark::State& st) { time_paired_textbook<float, S<float>>(st); });
     for (const std::string_view w : kWorkloads) {
         if (!has_workload<S<float>>(w)) continue;
         register_scalar_kernel<double, S<double>>(w);
