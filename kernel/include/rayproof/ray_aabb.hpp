@@ -86,16 +86,69 @@ template <class T> struct PreparedInverse {
 // R is a Ray or a PreparedRay (prepared_ray.hpp) throughout: from a PreparedRay every
 // path takes its validity and its reciprocals fl(1/d_i) as decided once, the same values
 // the Ray paths compute per query, so the certified answers are the same bit for bit.
+
+// Fast mode in full: the validity rules checked one by one, then the slab method with
+// the parallel axes decided on the sign of d_i (detail/slab_fast.hpp). What
+// aabb_fast_common declines, out of line.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_fast_general(const Ray<T>& r, const Aabb<T>& b) {
+    if (!valid(b) || !valid(r)) return invalid_hit<T>();
+    return slab_fast(r.origin.data(), r.direction.data(), b.lo.data(), b.hi.data(), r.t_min, r.t_max);
+}
+
+// Fast mode's common case: the branch-free slab of the textbooks (min and max of the
+// two slab values, no choice on the sign of d_i) with the validity rules folded into
+// one probe. probe = s - s for s the sum of the six slab values and the three d_i: 0
+// exactly when every term is finite, and then every input but t_min and t_max is finite
+// (an infinite or NaN o_i, lo_i or hi_i makes its slab values infinite or NaN, as
+// 1/d_i is finite and nonzero for a finite nonzero d_i; d_i itself is a term) and no
+// d_i is 0 (1/±0 = ±inf makes the values ±inf, or NaN for an origin on the plane), so
+// the direction is not the zero vector. The box's lo <= hi and the range rules are
+// three and three comparisons. With every slab value finite, min and max choose the
+// same values as the choice on the sign of d_i, except for a flat box (equal values,
+// the same either way); the face's side is the sign of d_i, as there. A parallel axis,
+// an overflowed value and invalid input go to aabb_fast_general, which answers them by
+// the contract's rules.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_fast_common(const Ray<T>& r, const Aabb<T>& b) {
+    const T* o = r.origin.data();
+    const T* d = r.direction.data();
+    const T* lo = b.lo.data();
+    const T* hi = b.hi.data();
+    T t_enter = r.t_min, t_exit = r.t_max, sum = 0;
+    int face = -1;
+    RAYPROOF_UNROLL3
+    for (int i = 0; i < 3; ++i) {
+        const T inv = T(1) / d[i];
+        const T t_lo = (lo[i] - o[i]) * inv, t_hi = (hi[i] - o[i]) * inv;
+        const T t_in = t_hi < t_lo ? t_hi : t_lo, t_out = t_hi < t_lo ? t_lo : t_hi;
+        sum += (t_lo + t_hi) + d[i];
+        const bool later = t_in > t_enter;
+        face += int(later) * (2 * i + int(std::signbit(d[i])) - face);
+        t_enter = later ? t_in : t_enter;
+        t_exit = t_out < t_exit ? t_out : t_exit;
+    }
+    const bool ok = int(sum - sum == 0) & int(lo[0] <= hi[0]) & int(lo[1] <= hi[1]) & int(lo[2] <= hi[2]) &
+                    int(valid_range(r));
+    if (!ok) [[unlikely]]
+        return std::nullopt;
+    Hit<T> h;
+    h.verdict = t_enter <= t_exit ? Verdict::hit : Verdict::miss;
+    h.t_enter = t_enter;
+    h.t_exit = t_exit;
+    h.face = face;
+    return h;
+}
+
 template <class R, class T>
     requires RayOrPrepared<R, T>
 RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedAabb<T>& p, fast_t) {
-    if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
-    if constexpr (is_prepared_ray_v<R>)
+    if constexpr (is_prepared_ray_v<R>) {
+        if (!p.ok || !valid(ray)) return invalid_hit<T>();
         return slab_fast_with(r.origin.data(), r.direction.data(), PreparedInverse<T>{ray.inv()}, p.shape.lo.data(),
                               p.shape.hi.data(), r.t_min, r.t_max);
-    else
-        return slab_fast(r.origin.data(), r.direction.data(), p.shape.lo.data(), p.shape.hi.data(), r.t_min, r.t_max);
+    } else {
+        return common_or_fallback(aabb_fast_common(r, p.shape), [&] { return aabb_fast_general(r, p.shape); });
+    }
 }
 
 // (p - o)/d faithfully rounded to T by one compensated correction of an approximation

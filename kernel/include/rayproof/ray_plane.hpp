@@ -58,13 +58,12 @@ namespace rayproof::detail {
 
 template <class T> using PreparedPlane = Prepared<Plane<T>>;  // detail/prepared.hpp
 
-template <class R, class T>
-    requires RayOrPrepared<R, T>
-RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, fast_t) {
-    if (!p.ok || !valid(ray)) return invalid_hit<T>();
-    const Ray<T>& r = ray_of(ray);
-    const T den = p.shape.normal.dot(r.direction);
-    const T num = p.shape.offset - p.shape.normal.dot(r.origin);
+// Fast mode in full: the validity rules checked one by one, then the crossing with the
+// parallel case decided on den == 0. What plane_fast_common declines, out of line.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_fast_general(const Ray<T>& r, const Plane<T>& p) {
+    if (!valid(p) || !valid(r)) return invalid_hit<T>();
+    const T den = p.normal.dot(r.direction);
+    const T num = p.offset - p.normal.dot(r.origin);
     Hit<T> h;
     if (den == 0) {
         if (num == 0) {
@@ -80,6 +79,37 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, fas
         h.t_enter = h.t_exit = t;
     }
     return h;
+}
+
+// Fast mode's common case: the same num, den and t, with the validity rules folded into
+// one probe. num + den is finite only when every number of the plane and of the ray's
+// origin and direction is finite (an infinite or NaN one makes its product with a
+// normal component, or the offset, infinite or NaN: 0·inf is NaN), and den != 0 means
+// neither the normal nor the direction is the zero vector (and the ray is not
+// parallel). The range rules are three comparisons. A parallel ray, an overflow and
+// invalid input go to plane_fast_general, which answers them by the contract's rules.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_fast_common(const Ray<T>& r, const Plane<T>& p) {
+    const T den = p.normal.dot(r.direction);
+    const T num = p.offset - p.normal.dot(r.origin);
+    const T sum = num + den;
+    if (!(int(sum - sum == 0) & int(den != 0) & int(valid_range(r)))) [[unlikely]]
+        return std::nullopt;
+    const T t = num / den;
+    Hit<T> h;
+    const bool hit = int(r.t_min <= t) & int(t <= r.t_max);
+    h.verdict = hit ? Verdict::hit : Verdict::miss;
+    h.t_enter = hit ? t : T(0);
+    h.t_exit = h.t_enter;
+    return h;
+}
+
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, fast_t) {
+    if constexpr (is_prepared_ray_v<R>)
+        if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
+    return common_or_fallback(plane_fast_common(r, p.shape), [&] { return plane_fast_general(r, p.shape); });
 }
 
 // The crossing t = N/D (N = offset - n·o, D = n·d): pinned between two adjacent doubles

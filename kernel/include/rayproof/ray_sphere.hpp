@@ -84,14 +84,13 @@ namespace rayproof::detail {
 
 template <class T> using PreparedSphere = Prepared<Sphere<T>>;  // detail/prepared.hpp
 
-template <class R, class T>
-    requires RayOrPrepared<R, T>
-RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, fast_t) {
-    if (!p.ok || !valid(ray)) return invalid_hit<T>();
-    const Ray<T>& r = ray_of(ray);
+// Fast mode in full: the validity rules checked one by one, then the careful quadratic.
+// What sphere_fast_common declines, out of line.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_fast_general(const Ray<T>& r, const Sphere<T>& s) {
+    if (!valid(s) || !valid(r)) return invalid_hit<T>();
     const Vec3<T>& d = r.direction;
-    const Vec3<T> delta = r.origin - p.shape.center;
-    const T rad = p.shape.radius;
+    const Vec3<T> delta = r.origin - s.center;
+    const T rad = s.radius;
     const T a = d.squaredNorm();
     const T b = d.dot(delta);
     const T l = (delta - (b / a) * d).norm();
@@ -115,6 +114,54 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, fa
     h.t_enter = std::max(t0, r.t_min);
     h.t_exit = std::min(t1, r.t_max);
     return h;
+}
+
+// Fast mode's common case: the same geometry with fewer divisions and square roots.
+// With inv = 1/a, the closest approach t* = -b·inv, the foot vector f = Δ + t*·d (so
+// that l² = |f|² is the squared distance from the centre to the line, computed without
+// the cancellation of |Δ|² - b²/a) and the half chord w = sqrt((r² - l²)·inv): the roots
+// are t* ∓ w (the nearer one to 0 taken as (c/a)/the farther, as at the careful
+// quadratic), and a miss (r² < l²) needs neither square root nor second division. The validity rules are folded into one probe: s = a + b + l² + r, finite
+// only when the direction, the origin, the centre and the radius are finite (an
+// infinite or NaN one makes a, b, f or r infinite or NaN: 0·inf is NaN), and a zero
+// direction gives inv = inf and b·inv = 0·inf = NaN; radius >= 0 and the range rules are
+// comparisons. An overflow, a = 0 by underflow (a tiny direction) and invalid input go
+// to sphere_fast_general, which answers them by the contract's rules.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_fast_common(const Ray<T>& r, const Sphere<T>& s) {
+    const Vec3<T>& d = r.direction;
+    const Vec3<T> delta = r.origin - s.center;
+    const T rad = s.radius;
+    const T a = d.squaredNorm(), inv = T(1) / a;
+    const T b = d.dot(delta);
+    const T ts = -b * inv;
+    const Vec3<T> f = delta + ts * d;
+    const T l2 = f.squaredNorm();
+    const T sum = ((a + b) + l2) + rad;
+    if (!(int(sum - sum == 0) & int(inv - inv == 0) & int(rad >= 0) & int(valid_range(r)))) [[unlikely]]
+        return std::nullopt;
+    const T disc = rad * rad - l2;
+    Hit<T> h;
+    if (!(disc >= 0)) return h;  // as the textbook code: no root, no square root
+    // The root farther from 0 as t* ± w with no cancellation, the nearer one from the
+    // product of the roots, c/a (c = |Δ|² - r²), as the careful quadratic does.
+    const T w = std::sqrt(disc * inv);
+    const T far = ts >= 0 ? ts + w : ts - w, c = delta.squaredNorm() - rad * rad;
+    const T near = far != 0 ? (c * inv) / far : T(0);  // far == 0: a tangent at t = 0
+    const T t0 = near < far ? near : far, t1 = near < far ? far : near;
+    const bool hit = int(t0 <= r.t_max) & int(t1 >= r.t_min);
+    h.verdict = hit ? Verdict::hit : Verdict::miss;
+    h.t_enter = hit ? (t0 > r.t_min ? t0 : r.t_min) : T(0);
+    h.t_exit = hit ? (t1 < r.t_max ? t1 : r.t_max) : T(0);
+    return h;
+}
+
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, fast_t) {
+    if constexpr (is_prepared_ray_v<R>)
+        if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
+    return common_or_fallback(sphere_fast_common(r, p.shape), [&] { return sphere_fast_general(r, p.shape); });
 }
 
 // The certified answer for valid input, shared by the certified mode and by the
