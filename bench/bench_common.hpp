@@ -13,6 +13,8 @@
 //   paired/<shape>/<float|double>/grazing/certified_over_fast
 //                                                       the ladder of issue #17's targets,
 //                                                       each ratio in pairs likewise
+//                                                       (counters a_ns and b_ns: each half's
+//                                                       ns per query, medians over the pairs)
 //   paired/<shape>/<float|double>/uniform/epeck_over_certified_verdict
 //                                                       CGAL Epeck's do_intersect over the
 //                                                       certified verdict query, in pairs
@@ -156,16 +158,24 @@ void time_pair(benchmark::State& st, std::size_t n, const std::string& a_key, A 
         benchmark::ClobberMemory();
         return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     };
-    std::vector<double> ratios;
+    std::vector<double> ratios, a_ns, b_ns;
     for (auto _ : st) {
         pass(a);  // warm-up, untimed
         const double ta = pass(a);
         pass(b);
         const double tb = pass(b);
         ratios.push_back(tb / ta);
+        a_ns.push_back(ta / double(n) * 1e9);
+        b_ns.push_back(tb / double(n) * 1e9);
     }
-    std::nth_element(ratios.begin(), ratios.begin() + std::ptrdiff_t(ratios.size() / 2), ratios.end());
-    st.counters["ratio"] = ratios.empty() ? 0.0 : ratios[ratios.size() / 2];
+    const auto median = [](std::vector<double>& v) {
+        if (v.empty()) return 0.0;
+        std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(v.size() / 2), v.end());
+        return v[v.size() / 2];
+    };
+    st.counters["ratio"] = median(ratios);
+    st.counters["a_ns"] = median(a_ns);  // ns per query of each half, medians over the pairs
+    st.counters["b_ns"] = median(b_ns);
     st.counters["cases"] = double(n);
 }
 

@@ -16,14 +16,23 @@
 //            one times (1+δ), |δ| <= gamma(2) = 2u/(1-2u), while no value over- or
 //            underflows; the verdict can be wrong when the entry and exit values are
 //            that close, and is measured, not promised (rayproof-audit).
-//            conservative — each slab value t~ = fl(fl(p - o)·fl(1/d)), computed in
-//            double (exactly representable inputs for float), is three roundings from
-//            t: |t~ - t| <= gamma(3)|t| <= gamma(3)/(1 - gamma(3))|t~|; the enclosure
-//            [t~ - K|t~|, t~ + K|t~|] with K = 2·gamma(3) covers that and the two
-//            roundings of its own ends (K|t~|(1 - u) - u|t~|(1 + K) >= gamma(3)/(1 -
-//            gamma(3))|t~|). Valid while 1/d is normal and t~ is finite and normal (or
-//            t~ == 0 from p == o); otherwise an outward-rounded interval division is used.
-//            Parallel axes are decided exactly (comparisons of floats).
+//            conservative — in the pbrt-v4 manner (aabb_conservative_common): the
+//            slab method in plain floating point (in double for both scalar types, as
+//            fl(fl(p - o)·fl(1/d)), three roundings: |t~ - t| <= gamma(3)|t| plus an
+//            underflow term), then only the two winners widened: t_enter = t~ -
+//            (2·gamma(3)|t~| + 2^-1022) and t_exit likewise up (the derivation is at the
+//            code), each clamped to [t_min, t_max] and rounded outward to T. A computed
+//            ±inf from a parallel axis is exact. For double input, a reciprocal that is
+//            not normal and finite (|d_i| beyond 2^1022, d_i == 0, or subnormal) or an
+//            overflowed winner goes to the interval path (slab_conservative on
+//            AabbFrame, outward rounding per operation), which the enclosures below
+//            also feed: there each slab value t~ = fl(fl(p - o)·fl(1/d)) gets the
+//            enclosure [t~ - K|t~|, t~ + K|t~|] with K = 2·gamma(3), which covers
+//            gamma(3)/(1 - gamma(3))|t~| and the two roundings of its own ends (K|t~|(1
+//            - u) - u|t~|(1 + K) >= gamma(3)/(1 - gamma(3))|t~|), valid while 1/d is
+//            normal and t~ is finite and normal (or t~ == 0 from p == o); otherwise an
+//            outward-rounded interval division is used. Parallel axes are decided
+//            exactly (comparisons of floats).
 //            certified — the same enclosures decide every comparison they separate;
 //            overlapping ones are decided by exact arithmetic (detail/exact.hpp). The
 //            common case runs as straight-line code (aabb_certified_common): the entry
@@ -77,16 +86,69 @@ template <class T> struct PreparedInverse {
 // R is a Ray or a PreparedRay (prepared_ray.hpp) throughout: from a PreparedRay every
 // path takes its validity and its reciprocals fl(1/d_i) as decided once, the same values
 // the Ray paths compute per query, so the certified answers are the same bit for bit.
+
+// Fast mode in full: the validity rules checked one by one, then the slab method with
+// the parallel axes decided on the sign of d_i (detail/slab_fast.hpp). What
+// aabb_fast_common declines, out of line.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_fast_general(const Ray<T>& r, const Aabb<T>& b) {
+    if (!valid(b) || !valid(r)) return invalid_hit<T>();
+    return slab_fast(r.origin.data(), r.direction.data(), b.lo.data(), b.hi.data(), r.t_min, r.t_max);
+}
+
+// Fast mode's common case: the branch-free slab of the textbooks (min and max of the
+// two slab values, no choice on the sign of d_i) with the validity rules folded into
+// one probe. probe = s - s for s the sum of the six slab values and the three d_i: 0
+// exactly when every term is finite, and then every input but t_min and t_max is finite
+// (an infinite or NaN o_i, lo_i or hi_i makes its slab values infinite or NaN, as
+// 1/d_i is finite and nonzero for a finite nonzero d_i; d_i itself is a term) and no
+// d_i is 0 (1/±0 = ±inf makes the values ±inf, or NaN for an origin on the plane), so
+// the direction is not the zero vector. The box's lo <= hi and the range rules are
+// three and three comparisons. With every slab value finite, min and max choose the
+// same values as the choice on the sign of d_i, except for a flat box (equal values,
+// the same either way); the face's side is the sign of d_i, as there. A parallel axis,
+// an overflowed value and invalid input go to aabb_fast_general, which answers them by
+// the contract's rules.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_fast_common(const Ray<T>& r, const Aabb<T>& b) {
+    const T* o = r.origin.data();
+    const T* d = r.direction.data();
+    const T* lo = b.lo.data();
+    const T* hi = b.hi.data();
+    T t_enter = r.t_min, t_exit = r.t_max, sum = 0;
+    int face = -1;
+    RAYPROOF_UNROLL3
+    for (int i = 0; i < 3; ++i) {
+        const T inv = T(1) / d[i];
+        const T t_lo = (lo[i] - o[i]) * inv, t_hi = (hi[i] - o[i]) * inv;
+        const T t_in = t_hi < t_lo ? t_hi : t_lo, t_out = t_hi < t_lo ? t_lo : t_hi;
+        sum += (t_lo + t_hi) + d[i];
+        const bool later = t_in > t_enter;
+        face += int(later) * (2 * i + int(std::signbit(d[i])) - face);
+        t_enter = later ? t_in : t_enter;
+        t_exit = t_out < t_exit ? t_out : t_exit;
+    }
+    const bool ok = int(sum - sum == 0) & int(lo[0] <= hi[0]) & int(lo[1] <= hi[1]) & int(lo[2] <= hi[2]) &
+                    int(valid_range(r));
+    if (!ok) [[unlikely]]
+        return std::nullopt;
+    Hit<T> h;
+    h.verdict = t_enter <= t_exit ? Verdict::hit : Verdict::miss;
+    h.t_enter = t_enter;
+    h.t_exit = t_exit;
+    h.face = face;
+    return h;
+}
+
 template <class R, class T>
     requires RayOrPrepared<R, T>
 RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedAabb<T>& p, fast_t) {
-    if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
-    if constexpr (is_prepared_ray_v<R>)
+    if constexpr (is_prepared_ray_v<R>) {
+        if (!p.ok || !valid(ray)) return invalid_hit<T>();
         return slab_fast_with(r.origin.data(), r.direction.data(), PreparedInverse<T>{ray.inv()}, p.shape.lo.data(),
                               p.shape.hi.data(), r.t_min, r.t_max);
-    else
-        return slab_fast(r.origin.data(), r.direction.data(), p.shape.lo.data(), p.shape.hi.data(), r.t_min, r.t_max);
+    } else {
+        return common_or_fallback(aabb_fast_common(r, p.shape), [&] { return aabb_fast_general(r, p.shape); });
+    }
 }
 
 // (p - o)/d faithfully rounded to T by one compensated correction of an approximation
@@ -199,12 +261,170 @@ private:
 
 static_assert(SlabFrame<AabbFrame<float>, float> && SlabFrame<AabbFrame<double>, double>);
 
+// The conservative answer by interval arithmetic per operation (AabbFrame, outward
+// rounding where its bound does not apply): what aabb_conservative_common declines, out
+// of line (parallel axes for double input, extreme exponents). The inputs are valid.
 template <class R, class T>
     requires RayOrPrepared<R, T>
-Hit<T> query(const R& ray, const PreparedAabb<T>& p, conservative_t) {
-    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+[[gnu::noinline, gnu::cold]] Hit<T> aabb_conservative_general(const R& ray, const Aabb<T>& b) {
     const Ray<T>& r = ray_of(ray);
-    return slab_conservative(AabbFrame<T>(ray, p.shape), r.t_min, r.t_max);
+    return slab_conservative(AabbFrame<T>(ray, b), r.t_min, r.t_max);
+}
+
+// The conservative answer in the pbrt-v4 manner: the slab method evaluated in plain
+// floating point, as the fast mode does (in double for both scalar types), and only the
+// two winners widened, t_enter down and t_exit up, by a bound derived for them.
+// Entry: with m the largest computed entry value (or t_min) and j its axis, the exact
+// entry max(t_min, max_i t_i) is at least max(t_min, t_j), and t_j >= m - e(m) for e
+// the error bound of m below; so max(t_min, fl(m - B(m))) is a lower bound of the exact
+// entry, whichever axis truly wins and whatever the other axes computed (a lost
+// constraint, a NaN that never wins, only widens). Likewise min(t_max, fl(x + B(x))),
+// x the smallest computed exit, is an upper bound of the exact exit. So a hit of the
+// exact answer (entry <= exit) is a hit here, and [t_enter, t_exit] encloses it.
+// Error of one slab value, with 1/d normal and finite: t~ = fl(fl(p - o)·fl(1/d)) =
+// t(1 + θ3) + η, |θ3| <= gamma(3) (three roundings: p - o is exact when it is
+// subnormal, and a normal difference is one rounding), |η| <= 2^-1075 from a product
+// in the subnormal range; so |t~ - t| <= g|t~| + 2·2^-1075, g = gamma(3)/(1 - gamma(3)).
+// The bound B(v) = fl(fl(K·a) + eta), a = min(|v|, max), K = 2·gamma(3) (>= 6u(1 - u) as
+// rounded), eta = 2^-1022 (a normal constant: a subnormal one would slow every query
+// on processors that take an assist on subnormal operands). fl(K·a) >= K·a(1 - u) -
+// 2^-1075, B >= (K·a(1 - u) - 2^-1075 + eta)(1 - u), and fl(v - B) <= v - B + u(a + B),
+// so fl(v - B) <= v - g·a - 2·2^-1075 as soon as B(1 - u) >= (g + u)·a + 2·2^-1075:
+// (1 - u)^3·6u(1 - u) > 4u + 10u² >= g + u, and (1 - u)^2(eta - 2^-1075) > 2·2^-1075.
+// The same for fl(x + B(x)) from above. An infinite v stands for an exact one (a
+// parallel axis whose origin lies outside its slab gives +inf as an entry, -inf as an
+// exit; one inside gives -inf, +inf or NaN, no constraint), and a = max keeps B finite
+// so that fl(±inf ∓ B) is ±inf: never inf - inf.
+// Range: for float input every value is computed in double and needs nothing more
+// (|p - o| <= 2^129, 1/d in [2^-128, 2^150] for a nonzero float d, products in
+// [2^-277, 2^279] or 0: all normal), and a computed ±inf is an exact one. For double
+// input the bound needs every fl(1/d_i) normal and finite (|d_i| in (2^-1024, 2^1022]:
+// |fl(1/d)| in [2^-1022, max], checked as min and max of the three |1/d_i|), and an
+// infinite winner is an overflow unless exact: m == +inf or x == -inf (a parallel miss,
+// or an overflowed finite value) and any d_i == 0 go to aabb_conservative_general, out
+// of line, which answers them by interval arithmetic.
+// Both ends are then rounded to T outward (float: round_down_to/round_up_to). face is
+// the computed winner's (the mode may differ on ties).
+// Contraction (detail/eft.hpp): class C1. No product here meets an addition but K·a +
+// eta, whose fused form has one rounding fewer, which the derivation allows.
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_conservative_common(const R& ray, const Aabb<T>& b) {
+    constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022, big = std::numeric_limits<double>::max();
+    const Ray<T>& r = ray_of(ray);
+    const T* o = r.origin.data();
+    const T* d = r.direction.data();
+    double m = double(r.t_min), x = double(r.t_max), amin = inf<double>, amax = 0;
+    int face = -1;
+    RAYPROOF_UNROLL3
+    for (int i = 0; i < 3; ++i) {
+        double inv;
+        if constexpr (is_prepared_ray_v<R>)
+            inv = ray.rinv(i);
+        else
+            inv = 1.0 / double(d[i]);
+        const double t_lo = (double(b.lo[i]) - double(o[i])) * inv;
+        const double t_hi = (double(b.hi[i]) - double(o[i])) * inv;
+        const bool neg = std::signbit(d[i]);
+        const double t_in = pick(neg, t_hi, t_lo), t_out = pick(neg, t_lo, t_hi);
+        face += int(t_in > m) * (2 * i + int(neg) - face);
+        m = t_in > m ? t_in : m;  // a NaN never wins
+        x = t_out < x ? t_out : x;
+        const double ai = std::abs(inv);
+        amin = ai < amin ? ai : amin;
+        amax = ai > amax ? ai : amax;
+    }
+    if constexpr (std::is_same_v<T, double>) {
+        const bool ok = int(amin >= std::numeric_limits<double>::min()) & int(amax <= big) & int(m < inf<double>) &
+                        int(x > -inf<double>);
+        if (!ok) [[unlikely]]
+            return std::nullopt;
+    }
+    const double am = std::abs(m), ax = std::abs(x);
+    const double lo = m - (K * (am < big ? am : big) + eta), hi = x + (K * (ax < big ? ax : big) + eta);
+    const double enter = lo > double(r.t_min) ? lo : double(r.t_min), exit = hi < double(r.t_max) ? hi : double(r.t_max);
+    Hit<T> h;
+    if (enter <= exit) {
+        h.verdict = Verdict::hit;
+        h.t_enter = round_down_to<T>(enter);
+        h.t_exit = round_up_to<T>(exit);
+        h.face = face;
+    }
+    return h;
+}
+
+// What aabb_conservative_in_t declines: validated in full, then the double path above,
+// then the interval path. Out of line.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_conservative_declined(const Ray<T>& r, const Aabb<T>& b) {
+    if (!valid(b) || !valid(r)) return invalid_hit<T>();
+    if (const std::optional<Hit<T>> h = aabb_conservative_common(r, b)) return *h;
+    return slab_conservative(AabbFrame<T>(r, b), r.t_min, r.t_max);
+}
+
+// The same enclosure computed in T itself (for float, the float roundings: u = 2^-24,
+// eta = 2^-126), for a Ray: the derivation at aabb_conservative_common holds with u, K =
+// 2·gamma(3) and eta = the smallest normal of T, and with 2^-1075 replaced by half T's
+// smallest subnormal, as soon as every fl(1/d_i) is normal and finite and every slab
+// value is finite; then it holds for all six values, and the widened winners bound the
+// exact entry and exit as there.
+// Validity and range, folded as in aabb_fast_common: probe = s - s for s the sum of the
+// six slab values is 0 exactly when all of them are finite, and then o, lo and hi are
+// finite and no d_i is 0 or so small that 1/d_i overflows (1/d_i is then ±inf, and a
+// slab value ±inf or NaN); |d_i| <= 1/min (2^1022 for double, 2^126 for float) keeps d
+// finite and every |fl(1/d_i)| >= min, normal. lo <= hi and the range rules are checked
+// as comparisons. Everything else (parallel axes, invalid input, extreme exponents) goes
+// to aabb_conservative_declined, which validates in full first.
+// Contraction: class C1, as aabb_conservative_common.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_conservative_in_t(const Ray<T>& r, const Aabb<T>& b) {
+    constexpr T K = 2 * gamma<T>(3), eta = std::numeric_limits<T>::min(), dmax = T(1) / std::numeric_limits<T>::min();
+    const T* o = r.origin.data();
+    const T* d = r.direction.data();
+    const T* lo = b.lo.data();
+    const T* hi = b.hi.data();
+    T m = r.t_min, x = r.t_max, sum = 0, amax = 0;
+    int face = -1;
+    RAYPROOF_UNROLL3
+    for (int i = 0; i < 3; ++i) {
+        const T inv = T(1) / d[i];
+        const T t_lo = (lo[i] - o[i]) * inv, t_hi = (hi[i] - o[i]) * inv;
+        const T t_in = t_hi < t_lo ? t_hi : t_lo, t_out = t_hi < t_lo ? t_lo : t_hi;
+        sum += t_lo + t_hi;
+        const T ad = std::abs(d[i]);
+        amax = ad > amax ? ad : amax;
+        const bool later = t_in > m;
+        face += int(later) * (2 * i + int(std::signbit(d[i])) - face);
+        m = later ? t_in : m;
+        x = t_out < x ? t_out : x;
+    }
+    const bool ok = int(sum - sum == 0) & int(amax <= dmax) & int(lo[0] <= hi[0]) & int(lo[1] <= hi[1]) &
+                    int(lo[2] <= hi[2]) & int(valid_range(r));
+    if (!ok) [[unlikely]]
+        return std::nullopt;
+    // m and x are finite here, or t_min = -inf / t_max = +inf themselves (exact, and
+    // their "bound" is infinite: -inf - (inf) = -inf, never inf - inf).
+    const T l = m - (K * std::abs(m) + eta), u = x + (K * std::abs(x) + eta);
+    const T enter = l > r.t_min ? l : r.t_min, exit = u < r.t_max ? u : r.t_max;
+    Hit<T> h;
+    if (enter <= exit) {
+        h.verdict = Verdict::hit;
+        h.t_enter = enter;
+        h.t_exit = exit;
+        h.face = face;
+    }
+    return h;
+}
+
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedAabb<T>& p, conservative_t) {
+    if constexpr (is_prepared_ray_v<R>) {
+        if (!p.ok || !valid(ray)) return invalid_hit<T>();
+        return common_or_fallback(aabb_conservative_common(ray, p.shape),
+                                  [&] { return aabb_conservative_general(ray, p.shape); });
+    } else {
+        return common_or_fallback(aabb_conservative_in_t(ray, p.shape),
+                                  [&] { return aabb_conservative_declined(ray, p.shape); });
+    }
 }
 
 // The certified answer's common case in straight-line code, the entry problem in lane 0

@@ -17,7 +17,13 @@
 //            |δ| <= gamma(4) relative to the sum of the absolute terms, d'_i gamma(3); a
 //            tiny exact d·a_i can round to ±0 or to the wrong sign near perpendicular
 //            directions. Measured, not promised.
-//            conservative — o'_i, d'_i and the slab values are evaluated in interval
+//            conservative — in the pbrt-v4 manner first (obb_conservative_common):
+//            o'_i, d'_i and the slab values in plain double, each slab value widened by
+//            the bound the certified path derives for it (static gamma(n) bounds of the
+//            frame, then of the quotient), the latest lower bound of an entry and the
+//            earliest upper bound of an exit taken, while every slab is far from
+//            parallel to the ray (|d'_i| >= 2^20 times its bound). Otherwise: o'_i, d'_i
+//            and the slab values are evaluated in interval
 //            arithmetic with outward rounding (detail/interval.hpp), in double for both
 //            scalar types; the exact sign of d'_i is used when its interval holds 0 (a
 //            nearly parallel slab whose sign is unknown gives the half-line of values
@@ -216,12 +222,77 @@ private:
 
 static_assert(SlabFrame<ObbFrame<float>, float> && SlabFrame<ObbFrame<double>, double>);
 
+// The conservative answer by interval arithmetic per operation (ObbFrame, exact signs
+// where the intervals hold 0): what obb_conservative_common declines (slabs parallel or
+// nearly parallel to the ray, extreme exponents), out of line. The inputs are valid.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> obb_conservative_general(const Ray<T>& r, const Obb<T>& b) {
+    return slab_conservative(ObbFrame<T>(r, b), r.t_min, r.t_max);
+}
+
+// The conservative answer in the pbrt-v4 manner: the change of frame and the slab
+// values in plain double (for both scalar types), each slab value t~ widened by the
+// bound E derived at obb_certified_common (o'_i and d'_i within eo_i = 2·gamma(4)·Σ|a_ji
+// Δ~_j| + 2^-1022 and ed_i = 2·gamma(3)·Σ|a_ji d_j| + 2^-1022, the derivation at
+// ObbFrame's certified constructor; then E = 2·((eo + |num~|(u + ed·|inv|))·|inv| +
+// 3u|t~|) + 2^-1022 >= |t - t~| while ed_i <= 2^-20|d'_i~|, which also makes the sign of
+// d'_i, and so the side entered, certain). The doubling leaves more than u(|t~| + E)
+// to spare, so fl(t~ - E) and fl(t~ + E) are a lower and an upper bound of t.
+// The exact entry is max(t_min, max_i t_in_i) and each exact t_in_i lies above its
+// fl(t~ - E): the largest of these lower bounds (and t_min) is a lower bound of the
+// entry; likewise the smallest of the upper bounds of the exits (and t_max) is an upper
+// bound of the exit. So a hit of the exact answer is a hit here and [t_enter, t_exit]
+// encloses it. face is the axis of the largest lower bound (the mode may differ on
+// ties).
+// Range: every |fl(1/d'_i)| normal (>= 2^-1022; ed_i <= 2^-20|d'_i~| keeps it finite,
+// ed_i >= 2^-1022) and every bound finite, else obb_conservative_general.
+// Contraction (detail/eft.hpp): class C1, as obb_certified_common's bounds.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_conservative_common(const Ray<T>& r, const Obb<T>& b) {
+    constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022, u = unit_roundoff<double>;
+    double oc[3], d[3];
+    for (int j = 0; j < 3; ++j) {
+        oc[j] = double(r.origin[j]) - double(b.center[j]);
+        d[j] = double(r.direction[j]);
+    }
+    double lo = double(r.t_min), hi = double(r.t_max), probe = 0;
+    int face = -1, ok = 1;
+    RAYPROOF_UNROLL3
+    for (int i = 0; i < 3; ++i) {
+        const double a0 = b.axes(0, i), a1 = b.axes(1, i), a2 = b.axes(2, i);
+        const double x0 = a0 * oc[0], x1 = a1 * oc[1], x2 = a2 * oc[2], y0 = a0 * d[0], y1 = a1 * d[1], y2 = a2 * d[2];
+        const double op = (x0 + x1) + x2, dp = (y0 + y1) + y2;
+        const double eo = g4 * ((std::abs(x0) + std::abs(x1)) + std::abs(x2)) + eta,
+                     ed = g3 * ((std::abs(y0) + std::abs(y1)) + std::abs(y2)) + eta;
+        const double h = b.half_extent[i], inv = 1 / dp, ai = std::abs(inv);
+        ok &= int(ed <= 0x1p-20 * std::abs(dp)) & int(ai >= eta);
+        const double n0 = -h - op, n1 = h - op, t0 = n0 * inv, t1 = n1 * inv;  // sides 0 and 1
+        const double k = u + ed * ai;
+        const double e0 = 2 * ((eo + std::abs(n0) * k) * ai + 3 * u * std::abs(t0)) + eta,
+                     e1 = 2 * ((eo + std::abs(n1) * k) * ai + 3 * u * std::abs(t1)) + eta;
+        const bool neg = dp < 0;  // side 1 is entered
+        const double in_lo = neg ? t1 - e1 : t0 - e0, out_hi = neg ? t0 + e0 : t1 + e1;
+        probe += (in_lo - in_lo) + (out_hi - out_hi);
+        face += int(in_lo > lo) * (2 * i + int(neg) - face);
+        lo = in_lo > lo ? in_lo : lo;
+        hi = out_hi < hi ? out_hi : hi;
+    }
+    if (!(ok & int(probe == 0))) [[unlikely]]
+        return std::nullopt;
+    Hit<T> out;
+    if (lo <= hi) {
+        out.verdict = Verdict::hit;
+        out.t_enter = round_down_to<T>(lo);
+        out.t_exit = round_up_to<T>(hi);
+        out.face = face;
+    }
+    return out;
+}
+
 template <class R, class T>
     requires RayOrPrepared<R, T>
-Hit<T> query(const R& ray, const PreparedObb<T>& p, conservative_t) {
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedObb<T>& p, conservative_t) {
     if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
-    return slab_conservative(ObbFrame<T>(r, p.box), r.t_min, r.t_max);
+    return common_or_fallback(obb_conservative_common(r, p.box), [&] { return obb_conservative_general(r, p.box); });
 }
 
 // The certified answer's common case in straight-line code, as the box's

@@ -12,10 +12,15 @@
 // Modes:     fast — num = offset - n·o has error <= gamma(4)·(|offset| + Σ|n_i o_i|) and
 //            den = n·d <= gamma(3)·Σ|n_i d_i|; when den is of the order of its own error
 //            bound, even its sign (and so the verdict) is unknown. Measured, not promised.
-//            conservative — num and den in interval arithmetic with outward rounding
-//            (in double for both scalar types); the sign of den, and whether a parallel
-//            ray lies in the plane, are decided exactly when the intervals hold zero;
-//            t is the interval quotient, unbounded on one side when |den| may be tiny.
+//            conservative — in the pbrt-v4 manner first (plane_conservative_common):
+//            num and den in plain double with the static bounds gamma(4)·Σ|terms| of
+//            the certified filter, t~ = fl(num·fl(1/den)) widened by a bound derived
+//            from them (at the code), when den is far from its bound (|den| >= 2^20
+//            times it). Otherwise (parallel and nearly parallel rays, overflow): num and
+//            den in interval arithmetic with outward rounding (in double for both
+//            scalar types); the sign of den, and whether a parallel ray lies in the
+//            plane, are decided exactly when the intervals hold zero; t is the interval
+//            quotient, unbounded on one side when |den| may be tiny.
 //            certified — straight-line code first (plane_certified_common on
 //            plane_pin): num and den as double-word sums of exact products in two lanes,
 //            with bounds that are 0 when the sums are exact; t pinned between the two
@@ -53,13 +58,12 @@ namespace rayproof::detail {
 
 template <class T> using PreparedPlane = Prepared<Plane<T>>;  // detail/prepared.hpp
 
-template <class R, class T>
-    requires RayOrPrepared<R, T>
-RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, fast_t) {
-    if (!p.ok || !valid(ray)) return invalid_hit<T>();
-    const Ray<T>& r = ray_of(ray);
-    const T den = p.shape.normal.dot(r.direction);
-    const T num = p.shape.offset - p.shape.normal.dot(r.origin);
+// Fast mode in full: the validity rules checked one by one, then the crossing with the
+// parallel case decided on den == 0. What plane_fast_common declines, out of line.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_fast_general(const Ray<T>& r, const Plane<T>& p) {
+    if (!valid(p) || !valid(r)) return invalid_hit<T>();
+    const T den = p.normal.dot(r.direction);
+    const T num = p.offset - p.normal.dot(r.origin);
     Hit<T> h;
     if (den == 0) {
         if (num == 0) {
@@ -75,6 +79,37 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, fas
         h.t_enter = h.t_exit = t;
     }
     return h;
+}
+
+// Fast mode's common case: the same num, den and t, with the validity rules folded into
+// one probe. num + den is finite only when every number of the plane and of the ray's
+// origin and direction is finite (an infinite or NaN one makes its product with a
+// normal component, or the offset, infinite or NaN: 0·inf is NaN), and den != 0 means
+// neither the normal nor the direction is the zero vector (and the ray is not
+// parallel). The range rules are three comparisons. A parallel ray, an overflow and
+// invalid input go to plane_fast_general, which answers them by the contract's rules.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_fast_common(const Ray<T>& r, const Plane<T>& p) {
+    const T den = p.normal.dot(r.direction);
+    const T num = p.offset - p.normal.dot(r.origin);
+    const T sum = num + den;
+    if (!(int(sum - sum == 0) & int(den != 0) & int(valid_range(r)))) [[unlikely]]
+        return std::nullopt;
+    const T t = num / den;
+    Hit<T> h;
+    const bool hit = int(r.t_min <= t) & int(t <= r.t_max);
+    h.verdict = hit ? Verdict::hit : Verdict::miss;
+    h.t_enter = hit ? t : T(0);
+    h.t_exit = h.t_enter;
+    return h;
+}
+
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, fast_t) {
+    if constexpr (is_prepared_ray_v<R>)
+        if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
+    return common_or_fallback(plane_fast_common(r, p.shape), [&] { return plane_fast_general(r, p.shape); });
 }
 
 // The crossing t = N/D (N = offset - n·o, D = n·d): pinned between two adjacent doubles
@@ -290,12 +325,11 @@ template <class T, class X> Hit<T> parallel_answer(const Ray<T>& r, const X& x) 
     return h;
 }
 
-template <class R, class T>
-    requires RayOrPrepared<R, T>
-Hit<T> query(const R& ray, const PreparedPlane<T>& p, conservative_t) {
-    if (!p.ok || !valid(ray)) return invalid_hit<T>();
-    const Ray<T>& r = ray_of(ray);
-    const PlaneCrossing<T> x(r, p.shape);
+// The conservative answer by interval arithmetic per operation, with exact signs where
+// the intervals hold 0: what plane_conservative_common declines (parallel and nearly
+// parallel rays, extreme exponents), out of line. The inputs are valid.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_conservative_general(const Ray<T>& r, const Plane<T>& p) {
+    const PlaneCrossing<T> x(r, p);
     Hit<T> h;
     if (x.den_sign() == 0) return parallel_answer(r, x);
     const Interval<double> t = x.enclose();
@@ -305,6 +339,70 @@ Hit<T> query(const R& ray, const PreparedPlane<T>& p, conservative_t) {
     h.t_enter = round_down_to<T>(lo);
     h.t_exit = round_up_to<T>(hi);
     return h;
+}
+
+// The conservative answer in the pbrt-v4 manner: t~ = fl(N~·fl(1/D~)) from one plain
+// evaluation of N = offset - n·o and D = n·d in double, widened by a bound E derived
+// for it, then clamped to [t_min, t_max] and rounded outward to T.
+// N~ and D~ are computed as in plane_verdict_common (-N~ = ((-offset + p_0) + p_1) + p_2,
+// D~ = (p_0' + p_1') + p_2', p_j = fl(n_j o_j), p_j' = fl(n_j d_j)), with the bounds
+// e = fl(fl(K·S~) + eta), K = gamma(4), S~ the same sums of the |terms|, eta = 2^-1022:
+// |N~ - N| <= (1 + 2^-49)·e_N and |D~ - D| < e_D (the derivation is there; a fused
+// evaluation has fewer roundings, class C1).
+// When e_D <= 2^-20|D~| (so D != 0, and the ray is not nearly parallel), with q =
+// N~/D~ exactly:
+//     |t - q| = |(N - N~)D~ + N~(D~ - D)|/|D·D~| <= (e_N' + |q|·e_D)/(|D~| - e_D)
+//             <= (1 + 2^-19)(e_N' + |q|·e_D)/|D~|,            e_N' = (1 + 2^-49)·e_N,
+// and with inv = fl(1/D~) and t~ = fl(N~·inv), both normal or zero and finite (checked:
+// |inv| in [2^-1022, max], t~ finite), |t~ - q| <= gamma(2)|q| + 2^-1075. Since |q| <=
+// (1 + 2.01u)|t~| + 2^-1074, |N~|·|inv| >= (1 - u)|q| and |inv| >= (1 - u)/|D~|,
+//     |t - t~| <= (1 + 2^-18)(e_N + |N~|·e_D·|inv|)·|inv| + 2.01u|t~| + 2^-1073.
+// The code takes E = 2·fl(fl(fl(e_N + fl(fl(|N~|·e_D)·|inv|))·|inv|) + fl(3u·|t~|)) +
+// eta: five roundings of at most (1 - u) each and products in the subnormal range (at
+// most 2^-1075 each, below eta/2^50) leave E >= 1.99·(...) + eta, which covers the
+// bound above with room for the two roundings of t~ ∓ E (u(|t~| + E), inside the
+// doubled 3u|t~| and the 0.99·(...)). So [fl(t~ - E), fl(t~ + E)] holds t: a hit of the
+// exact answer (t in [t_min, t_max]) is a hit here, and the interval encloses it.
+// An infinite or NaN E or t~ (an overflow: huge inputs, a nearly parallel ray) and
+// everything the checks above exclude (a parallel ray, whose answer needs the exact
+// sign of N) go to plane_conservative_general.
+template <class T>
+RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray<T>& r, const Plane<T>& p) {
+    constexpr double K = gamma<double>(4), eta = 0x1p-1022, u = unit_roundoff<double>,
+                     big = std::numeric_limits<double>::max();
+    const double n0 = p.normal[0], n1 = p.normal[1], n2 = p.normal[2], f = p.offset;
+    const double po0 = n0 * double(r.origin[0]), po1 = n1 * double(r.origin[1]), po2 = n2 * double(r.origin[2]);
+    const double pd0 = n0 * double(r.direction[0]), pd1 = n1 * double(r.direction[1]),
+                 pd2 = n2 * double(r.direction[2]);
+    const double num = -(((-f + po0) + po1) + po2), den = (pd0 + pd1) + pd2;
+    const double sn = ((std::abs(f) + std::abs(po0)) + std::abs(po1)) + std::abs(po2);
+    const double sd = (std::abs(pd0) + std::abs(pd1)) + std::abs(pd2);
+    const double en = K * sn + eta, ed = K * sd + eta;
+    const double inv = 1 / den, ai = std::abs(inv);
+    const double t = num * inv;
+    const double e = en + (std::abs(num) * ed) * ai;
+    const double bound = 2 * (e * ai + 3 * u * std::abs(t)) + eta;
+    const bool ok = int(ed <= 0x1p-20 * std::abs(den)) & int(ai >= std::numeric_limits<double>::min()) &
+                    int(ai <= big) & int(bound <= big);  // false for NaN; a finite bound needs a finite t
+    if (!ok) [[unlikely]]
+        return std::nullopt;
+    const double lo = t - bound, hi = t + bound;
+    const double enter = lo > double(r.t_min) ? lo : double(r.t_min), exit = hi < double(r.t_max) ? hi : double(r.t_max);
+    Hit<T> h;
+    if (enter <= exit) {
+        h.verdict = Verdict::hit;
+        h.t_enter = round_down_to<T>(enter);
+        h.t_exit = round_up_to<T>(exit);
+    }
+    return h;
+}
+
+template <class R, class T>
+    requires RayOrPrepared<R, T>
+RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, conservative_t) {
+    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    const Ray<T>& r = ray_of(ray);
+    return common_or_fallback(plane_conservative_common(r, p.shape), [&] { return plane_conservative_general(r, p.shape); });
 }
 
 // The certified decisions on a crossing X (PlaneCrossing, or a test's wrapper that

@@ -50,6 +50,27 @@ template <class T> T faithful_to(double t) {
     }
 }
 
+// The conservative answer from a straight-line path when it answered, else from
+// `general()`: common_or_general below without the certified mode's query count.
+template <class T, class General>
+RAYPROOF_ALWAYS_INLINE Hit<T> common_or_fallback(const std::optional<Hit<T>>& common, General&& general) {
+    Verdict verdict;
+    T t_enter, t_exit;
+    int face;
+    if (common) [[likely]] {
+        verdict = common->verdict, t_enter = common->t_enter, t_exit = common->t_exit, face = common->face;
+    } else {
+        const Hit<T> g = general();
+        verdict = g.verdict, t_enter = g.t_enter, t_exit = g.t_exit, face = g.face;
+    }
+    Hit<T> out;
+    out.verdict = verdict;
+    out.t_enter = t_enter;
+    out.t_exit = t_exit;
+    out.face = face;
+    return out;
+}
+
 // The certified answer from a straight-line path when it answered (`common`), else from
 // `general()`, a call of the general path. The two meet in the four fields, not in a Hit:
 // a Hit in memory written field by field and copied whole stalls on store-to-load

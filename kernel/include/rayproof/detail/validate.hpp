@@ -63,12 +63,46 @@ template <class T> bool valid(const ConvexPolyhedron<T>& c) {
     return ok;
 }
 
-template <class T> bool valid(const Obb<T>& b) {
-    if (!finite3(b.center.data()) || !finite3(b.half_extent.data())) return false;
-    for (int i = 0; i < 9; ++i)
-        if (!std::isfinite(b.axes.data()[i])) return false;
-    if (!(b.half_extent[0] >= 0 && b.half_extent[1] >= 0 && b.half_extent[2] >= 0)) return false;
-    return det3_sign(b.axes) != 0;  // exact: dependent axes <=> det == 0
+// The exact sign of det(axes) decides linear dependence (det3_sign, detail/exact.hpp);
+// most boxes are decided by an inline filter first, without a call: det and perm (the
+// sum of the monomials' magnitudes) in double in det3_sign's order, with every entry's
+// magnitude at most 2^300 (so no product overflows). det3_sign's derivation bounds the
+// error by gamma(6)·perm~ while no product underflows; a product in the subnormal range
+// is off by at most 2^-1075, and multiplied by an entry (at most 2^300), each of the 12
+// rounded products carries at most 2^-774 into det and perm. So |det~ - det| <=
+// gamma(6)·perm~·(1 + 2^-50) + 2^-770, and fl(fl(gamma(7)·perm~) + 2^-760) (two
+// roundings of a value at least gamma(7)(1 - u)^2·perm~ + 2^-760(1 - u)) exceeds it:
+// |det~| above that proves det != 0. Otherwise det3_sign decides, out of line. The
+// answer is the exact one either way.
+// Contraction: class C1 (a fused evaluation has fewer roundings).
+template <class T> RAYPROOF_ALWAYS_INLINE bool obb_axes_independent(const Eigen::Matrix<T, 3, 3>& m) {
+    const double a = m(0, 0), b = m(0, 1), c = m(0, 2);
+    const double d = m(1, 0), e = m(1, 1), f = m(1, 2);
+    const double g = m(2, 0), h = m(2, 1), i = m(2, 2);
+    const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+    const double perm = std::abs(a) * (std::abs(e) * std::abs(i) + std::abs(f) * std::abs(h)) +
+                        std::abs(b) * (std::abs(d) * std::abs(i) + std::abs(f) * std::abs(g)) +
+                        std::abs(c) * (std::abs(d) * std::abs(h) + std::abs(e) * std::abs(g));
+    double amax = 0;
+    for (int k = 0; k < 9; ++k) {
+        const double x = std::abs(double(m.data()[k]));
+        amax = x > amax ? x : amax;
+    }
+    const double bound = gamma<double>(7) * perm + 0x1p-760;
+    if (int(amax <= 0x1p300) & int(std::abs(det) > bound)) [[likely]]
+        return true;
+    return det3_sign(m) != 0;
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Obb<T>& b) {
+    // Every number finite (one probe, as finite_probe), the half extents >= 0, then the
+    // axes independent.
+    const T* ax = b.axes.data();
+    const T probe = ((finite_probe(b.center.data()) + finite_probe(b.half_extent.data())) +
+                     (finite_probe(ax) + finite_probe(ax + 3))) + finite_probe(ax + 6);
+    const T* h = b.half_extent.data();
+    if (!(int(probe == 0) & int(h[0] >= 0) & int(h[1] >= 0) & int(h[2] >= 0))) return false;
+    return obb_axes_independent(b.axes);
 }
 
 template <class T> Hit<T> invalid_hit() {
