@@ -16,7 +16,8 @@
 // and empty polyhedra, planes and invalid primitives (1 to 600 primitives), with rays
 // aimed at primitives, random rays, rays parallel to axes and rays whose [t_min,
 // t_max] cuts the scene; and adversarial ones: no primitive, one, only planes, only
-// invalid ones, coincident boxes (ties to the lowest index), touching boxes with a ray
+// invalid ones, directions beyond the node filters' ranges, coincident boxes (ties to
+// the lowest index), touching boxes with a ray
 // along their shared face and through their shared edges, many spheres entered at the
 // same t, a thousand equal centroids (median splits), invalid rays. Beside the answers:
 // stats() (every primitive in exactly one leaf or beside the tree, the counts), node
@@ -473,6 +474,37 @@ TYPED_TEST(BvhTest, InvalidRays) {
         EXPECT_EQ(bvh.any_hit(r, conservative).verdict, Verdict::invalid);
         EXPECT_EQ(bvh.closest_hit(r, certified).index, -1);
     }
+}
+
+// Directions whose reciprocals the node filters cannot use (a float tree's float lanes
+// need |d_i| in [2^-128, 2^126], the double lanes |d_i| < 2^1022): the node tests
+// fall back to wider lanes or to the scalar query, and the answers stay those of brute
+// force.
+TYPED_TEST(BvhTest, ExtremeDirections) {
+    using T = typename TypeParam::type;
+    constexpr int W = TypeParam::width;
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::mt19937_64 g = make_rng();
+    const Scene<T> s = random_scene<T>(g, 200);
+    const Bvh<T, W> bvh(s.prims);
+    const T tiny = std::numeric_limits<T>::denorm_min() * T(3), huge = std::numeric_limits<T>::max() / T(4);
+    std::uniform_real_distribution<double> u(-12, 12);
+    std::size_t hits = 0;
+    for (int k = 0; k < 60; ++k) {
+        const Vec3<T> to = aim(s.prims[std::size_t(g() % s.prims.size())]), from = v3<T>(u(g), u(g), u(g));
+        Vec3<T> d = to - from;
+        const int a = int(g() % 3);
+        switch (k % 4) {
+            case 0: d[a] = tiny; break;                                   // a subnormal component
+            case 1: d[a] = -tiny; d[(a + 1) % 3] = T(0x1p-130); break;    // below the float lanes' range
+            case 2: d *= T(0x1p100); d[a] = huge; break;                  // beyond the float lanes' range
+            default: d = d.normalized() * huge; break;                    // every component huge
+        }
+        if (d.isZero()) d[a] = T(1);
+        hits += check_ray(bvh, s.prims, Ray<T>{from, d});
+        if (::testing::Test::HasFailure()) return;
+    }
+    EXPECT_GT(hits, 5u);
 }
 
 // Coincident and touching boxes, a ray along their shared face and through a shared
