@@ -326,12 +326,15 @@ private:
 // differences of inputs: the coefficient sums multiply). Degree 5 with 1000 terms,
 // the kernel's need, is far inside. Past the capacity overflowed() is set (never a
 // crash or an assertion).
-class BigDyadic {
+//
+// BasicBigDyadic<L> is the same class with L limbs (kCapacity = L); BigDyadic is
+// BasicBigDyadic<232>, the capacity above, and BigDyadic8 (below) the one for degree 8.
+template <int Limbs> class BasicBigDyadic {
 public:
-    static constexpr int kCapacity = 232;
+    static constexpr int kCapacity = Limbs;
 
-    BigDyadic() noexcept {}
-    BigDyadic(double x) noexcept {  // exact
+    BasicBigDyadic() noexcept {}
+    BasicBigDyadic(double x) noexcept {  // exact
         if (!std::isfinite(x)) {
             of_ = true;
             return;
@@ -354,10 +357,10 @@ public:
         lexp_ = q;
         normalize();
     }
-    BigDyadic(float x) noexcept : BigDyadic(static_cast<double>(x)) {}  // exact
+    BasicBigDyadic(float x) noexcept : BasicBigDyadic(static_cast<double>(x)) {}  // exact
     // Copies move only the limbs in use.
-    BigDyadic(const BigDyadic& o) noexcept : n_(o.n_), neg_(o.neg_), of_(o.of_), lexp_(o.lexp_) { copy_from(o); }
-    BigDyadic& operator=(const BigDyadic& o) noexcept {
+    BasicBigDyadic(const BasicBigDyadic& o) noexcept : n_(o.n_), neg_(o.neg_), of_(o.of_), lexp_(o.lexp_) { copy_from(o); }
+    BasicBigDyadic& operator=(const BasicBigDyadic& o) noexcept {
         if (this == &o) return *this;
         n_ = o.n_;
         neg_ = o.neg_;
@@ -394,16 +397,16 @@ public:
         return {mant, e + 64 * (lexp_ + n_ - 1) - sh};
     }
 
-    friend BigDyadic operator-(const BigDyadic& a) {
-        BigDyadic r(a);
+    friend BasicBigDyadic operator-(const BasicBigDyadic& a) {
+        BasicBigDyadic r(a);
         if (r.n_ != 0) r.neg_ = !r.neg_;
         return r;
     }
-    friend BigDyadic operator+(const BigDyadic& a, const BigDyadic& b) { return add(a, b, false); }
-    friend BigDyadic operator-(const BigDyadic& a, const BigDyadic& b) { return add(a, b, true); }
+    friend BasicBigDyadic operator+(const BasicBigDyadic& a, const BasicBigDyadic& b) { return add(a, b, false); }
+    friend BasicBigDyadic operator-(const BasicBigDyadic& a, const BasicBigDyadic& b) { return add(a, b, true); }
     // Schoolbook product of the limbs in use, 128-bit partial products.
-    friend BigDyadic operator*(const BigDyadic& a, const BigDyadic& b) {
-        BigDyadic r;
+    friend BasicBigDyadic operator*(const BasicBigDyadic& a, const BasicBigDyadic& b) {
+        BasicBigDyadic r;
         if (a.of_ || b.of_ || a.n_ + b.n_ - 1 > kCapacity) return flagged();  // needs >= na+nb-1 limbs
         if (a.n_ == 0 || b.n_ == 0) return r;
         std::fill_n(r.limb_, a.n_ + b.n_, std::uint64_t(0));
@@ -422,17 +425,17 @@ public:
         r.normalize();
         return r;
     }
-    BigDyadic& operator+=(const BigDyadic& o) { return *this = *this + o; }
-    BigDyadic& operator-=(const BigDyadic& o) { return *this = *this - o; }
-    BigDyadic& operator*=(const BigDyadic& o) { return *this = *this * o; }
+    BasicBigDyadic& operator+=(const BasicBigDyadic& o) { return *this = *this + o; }
+    BasicBigDyadic& operator-=(const BasicBigDyadic& o) { return *this = *this - o; }
+    BasicBigDyadic& operator*=(const BasicBigDyadic& o) { return *this = *this * o; }
 
 private:
-    void copy_from(const BigDyadic& o) {
+    void copy_from(const BasicBigDyadic& o) {
         std::memcpy(limb_, o.limb_, sizeof(std::uint64_t) * static_cast<std::size_t>(o.n_));
     }
 
-    static BigDyadic flagged() {
-        BigDyadic r;
+    static BasicBigDyadic flagged() {
+        BasicBigDyadic r;
         r.of_ = true;
         return r;
     }
@@ -459,7 +462,7 @@ private:
         if (n_ > kCapacity) *this = flagged();
     }
     // Compare |a| and |b| (both normalized, nonzero).
-    static int cmp_mag(const BigDyadic& a, const BigDyadic& b) {
+    static int cmp_mag(const BasicBigDyadic& a, const BasicBigDyadic& b) {
         const long ta = a.lexp_ + a.n_, tb = b.lexp_ + b.n_;
         if (ta != tb) return ta > tb ? 1 : -1;
         const long lo = std::min(a.lexp_, b.lexp_);
@@ -469,14 +472,14 @@ private:
         }
         return 0;
     }
-    static BigDyadic add(const BigDyadic& a, const BigDyadic& b, bool negate_b) {
+    static BasicBigDyadic add(const BasicBigDyadic& a, const BasicBigDyadic& b, bool negate_b) {
         if (a.of_ || b.of_) return flagged();
         if (b.n_ == 0) return a;
         if (a.n_ == 0) return negate_b ? -b : b;
         const bool nb = b.neg_ != negate_b;
         const long lo = std::min(a.lexp_, b.lexp_);
         const long span = std::max(a.lexp_ + a.n_, b.lexp_ + b.n_) - lo;
-        BigDyadic r;
+        BasicBigDyadic r;
         r.lexp_ = lo;
         if (a.neg_ == nb) {  // |a| + |b|: needs >= span limbs
             if (span > kCapacity) return flagged();
@@ -492,9 +495,9 @@ private:
         } else {  // ||a| − |b||: the top drops by at most one limb, so needs >= span − 1 limbs
             if (span > kCapacity + 1) return flagged();
             const int c = cmp_mag(a, b);
-            if (c == 0) return BigDyadic();
-            const BigDyadic& big = c > 0 ? a : b;
-            const BigDyadic& small = c > 0 ? b : a;
+            if (c == 0) return BasicBigDyadic();
+            const BasicBigDyadic& big = c > 0 ? a : b;
+            const BasicBigDyadic& small = c > 0 ? b : a;
             std::uint64_t borrow = 0;
             for (long i = 0; i < span; ++i) {
                 const std::uint64_t x = big.at(lo + i), y = small.at(lo + i);
@@ -516,11 +519,23 @@ private:
     long lexp_ = 0;  // exponent in limbs: the lowest limb weighs 2^(64·lexp_)
 };
 
-// Exact conversion of an expansion (the flag carries over).
-template <int Cap> BigDyadic to_big_dyadic(const Expansion<Cap>& e) {
-    if (e.overflowed()) return BigDyadic(std::numeric_limits<double>::quiet_NaN());
-    BigDyadic r;
-    for (double c : e.components()) r += BigDyadic(c);
+using BigDyadic = BasicBigDyadic<232>;
+
+// BigDyadic8: exact for polynomials of total degree <= 8. kCapacity = 272 limbs = 17408
+// bits. A product of k <= 8 doubles or floats is a multiple of 2^(-1074k) >= 2^-8592
+// below 2^(1024k) <= 2^8192; with integer coefficients whose absolute values sum to at
+// most 2^20 a value is below 2^8212: 8592 + 8212 = 16804 bits, plus at most 63 bits of
+// limb alignment, 16867 <= 17408. Intermediates obey the same rule as BigDyadic's
+// (sums and products of differences of inputs). Used by the exact order of two sphere
+// entries (detail/entry_order.hpp), whose decisive polynomials have degree 8.
+using BigDyadic8 = BasicBigDyadic<272>;
+
+// Exact conversion of an expansion (the flag carries over), to BigDyadic unless Big
+// names another capacity.
+template <class Big = BigDyadic, int Cap> Big to_big_dyadic(const Expansion<Cap>& e) {
+    if (e.overflowed()) return Big(std::numeric_limits<double>::quiet_NaN());
+    Big r;
+    for (double c : e.components()) r += Big(c);
     return r;
 }
 
@@ -596,15 +611,16 @@ template <class V> struct is_optional<std::optional<V>> : std::true_type {};
 // When `safe` (usually expansion_safe of every input), f first runs with
 // Expansion<Cap>; if it returns nullopt, or when !safe, f runs with BigDyadic. The
 // result is f's: nullopt only if BigDyadic's capacity was exceeded too, which cannot
-// happen within its documented degree (see BigDyadic).
+// happen within its documented degree (see BigDyadic). Big names a larger BigDyadic
+// (BigDyadic8) for algorithms of higher degree.
 //   auto s = with_exact(expansion_safe({a, b, c}), [&](auto tag) -> std::optional<int> {
 //       using E = typename decltype(tag)::type;
 //       const E v = E(a) * E(b) - E(c);
 //       if (v.overflowed()) return std::nullopt;
 //       return v.sign();
 //   });
-template <int Cap = kDefaultExpansionCap, class F> auto with_exact(bool safe, F&& f) {
-    using R = std::invoke_result_t<F&, exact_tag<BigDyadic>>;
+template <int Cap = kDefaultExpansionCap, class Big = BigDyadic, class F> auto with_exact(bool safe, F&& f) {
+    using R = std::invoke_result_t<F&, exact_tag<Big>>;
     static_assert(is_optional<R>::value, "the exact algorithm returns std::optional<V>");
     static_assert(std::is_same_v<R, std::invoke_result_t<F&, exact_tag<Expansion<Cap>>>>,
                   "the exact algorithm returns the same type for both exact types");
@@ -612,7 +628,7 @@ template <int Cap = kDefaultExpansionCap, class F> auto with_exact(bool safe, F&
         R r = f(exact_tag<Expansion<Cap>>{});
         if (r) return r;
     }
-    return f(exact_tag<BigDyadic>{});
+    return f(exact_tag<Big>{});
 }
 
 // The exact sign of value(exact_tag<E>{}), an exact value computed once for both exact
