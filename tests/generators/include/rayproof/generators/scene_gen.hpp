@@ -274,13 +274,13 @@ template <class T, class F> bool transform_scene(Scene<T>& s, F f) {
                 if constexpr (std::is_same_v<S, ConvexPolyhedron<T>>) {
                     std::vector<Plane<T>> planes;
                     for (const Plane<T>& q : shape.planes) {
-                        Plane<T> r;
+                        Plane<T> r = q;
                         ok = ok && f(q, r);
                         planes.push_back(r);
                     }
                     out.add_polyhedron(std::move(planes));
                 } else {
-                    S r;
+                    S r = shape;
                     ok = f(shape, r);
                     out.add(r);
                 }
