@@ -6,8 +6,9 @@
 //
 // It instantiates every public query — every shape (the convex polyhedron included),
 // every mode, float and double, the scalar and the span forms of intersect and verdict,
-// on a Ray and on a PreparedRay, and the packets of boxes — with normal(), reversed(),
-// surface_point(), the io helpers and the version macros, and checks the answers it can know exactly: all inputs
+// on a Ray and on a PreparedRay, the packets of boxes and a Bvh over every kind of
+// primitive — with normal(), reversed(), surface_point(), the io helpers and the version
+// macros, and checks the answers it can know exactly: all inputs
 // below are small integers and halves, so every exact t is representable and a certified
 // answer must equal it. It prints "rayproof <version> consumer: <n> checks passed" and
 // exits 0 only when every check holds.
@@ -226,6 +227,53 @@ template <class T, int W> void check_packets() {
     each(certified);
 }
 
+// A small Bvh over every kind of primitive: the cube [-1, 1]^3 as six planes (index
+// 0), the sphere of radius 1 at (5, 0, 0), the box [9, 11] x [-1, 1]^2 and the plane x =
+// 20 (kept beside the tree). The ray along x at y = 0.5 enters the cube first, at t = 3
+// through its plane 0; every mode finds it, the tree equals the brute force, and
+// for_each_candidate offers each of the four primitives exactly once.
+template <class T, int W> void check_bvh() {
+    using namespace rayproof;
+    static const Plane<T> cube[6] = {{v3<T>(-1, 0, 0), T(1)}, {v3<T>(1, 0, 0), T(1)}, {v3<T>(0, -1, 0), T(1)},
+                                     {v3<T>(0, 1, 0), T(1)},  {v3<T>(0, 0, -1), T(1)}, {v3<T>(0, 0, 1), T(1)}};
+    const std::array<Primitive<T>, 4> prims{Primitive<T>(ConvexPolyhedron<T>{cube}),
+                                            Primitive<T>(Sphere<T>{v3<T>(5, 0, 0), T(1)}),
+                                            Primitive<T>(Aabb<T>{v3<T>(9, -1, -1), v3<T>(11, 1, 1)}),
+                                            Primitive<T>(Plane<T>{v3<T>(1, 0, 0), T(20)})};
+    const Bvh<T, W> bvh(std::span<const Primitive<T>>(prims), BvhOptions{1, 8});
+    const std::string what = "Bvh<" + name_of<T>() + ", " + std::to_string(W) + ">";
+    const BvhStats st = bvh.stats();
+    check(st.primitives == 4 && st.outside == 1 && st.leaves == 3 && st.nodes >= 1 && st.depth >= 1,
+          what + ": stats");
+    const Ray<T> ray{v3<T>(-4, 0.5, 0), v3<T>(1, 0, 0)};
+    const PreparedRay<T> pr(ray);
+    const auto each = [&](auto mode) {
+        const ClosestHit<T> c = bvh.closest_hit(pr, mode), brute = closest_hit(pr, std::span<const Primitive<T>>(prims), mode);
+        check(c.verdict == Verdict::hit && c.index == 0 && c.hit.face == 0 && brute.index == c.index,
+              what + " " + mode_name(mode) + ": closest_hit");
+        if constexpr (std::is_same_v<decltype(mode), certified_t>)
+            check(c.hit.t_enter == T(3) && c.hit.t_exit == T(5), what + " certified: closest t exact");
+        const ClosestHit<T> a = bvh.any_hit(ray, mode);
+        check(a.verdict == Verdict::hit && a.index >= 0 && a.index < 4, what + " " + mode_name(mode) + ": any_hit");
+        const ClosestHit<T> none = bvh.closest_hit(Ray<T>{v3<T>(-4, 5, 0), v3<T>(0, 1, 0)}, mode);
+        check(none.verdict == Verdict::miss && none.index == -1, what + " " + mode_name(mode) + ": a miss");
+        std::array<int, 4> seen{};
+        T limit = std::numeric_limits<T>::infinity();
+        bvh.for_each_candidate(pr, mode, limit, [&](std::size_t i) {
+            ++seen[i];
+            return true;
+        });
+        if constexpr (!std::is_same_v<decltype(mode), fast_t>)
+            check(seen[0] == 1 && seen[1] == 1 && seen[2] == 1 && seen[3] == 1,
+                  what + " " + mode_name(mode) + ": every candidate once");
+    };
+    each(fast);
+    each(conservative);
+    each(certified);
+    check(bvh.closest_hit(Ray<T>{v3<T>(0, 0, 0), v3<T>(0, 0, 0)}, certified).verdict == Verdict::invalid,
+          what + ": an invalid ray");
+}
+
 template <class T> void check_type() {
     using namespace rayproof;
     Mat3<T> turn;  // a quarter turn about z: columns (0, 1, 0), (-1, 0, 0), (0, 0, 1)
@@ -254,6 +302,8 @@ template <class T> void check_type() {
 
     check_packets<T, 4>();
     check_packets<T, 8>();
+    check_bvh<T, 4>();
+    check_bvh<T, 8>();
 
     // The printed form reproduces bit for bit: 3 and 5 in hexadecimal floating point.
     std::ostringstream os;

@@ -66,6 +66,20 @@ public:
     // above holds on all three axes.
     [[nodiscard]] bool reciprocals_normal() const noexcept { return k_.normal; }
 
+    // The same ray on [t_min, t_max] instead: the reciprocals and the origin's and
+    // direction's checks kept, validity re-decided for the new range (valid_range:
+    // comparisons only, exact in every floating-point environment). Equal, in every
+    // field, to PreparedRay(Ray{origin, direction, t_min, t_max}): what a BVH traversal
+    // uses to test its nodes on a range it narrows as hits are found.
+    [[nodiscard]] PreparedRay with_range(T t_min, T t_max) const noexcept {
+        PreparedRay r(*this);
+        r.ray_.t_min = t_min;
+        r.ray_.t_max = t_max;
+        r.k_.valid = k_.valid_apart_from_range & detail::valid_range(r.ray_);
+        r.k_.normal = k_.normal_apart_from_range & r.k_.valid;
+        return r;
+    }
+
 private:
     struct Decided {
         double rinv[3];
@@ -73,10 +87,15 @@ private:
         bool negative[3];
         bool valid;
         bool normal;
+        bool valid_apart_from_range;   // the origin finite, the direction finite and nonzero
+        bool normal_apart_from_range;  // every fl(1/d_i) normal and finite
     };
     static Decided decide(const Ray<T>& ray) noexcept {
         Decided k;
         k.valid = detail::valid(ray);
+        const T* dir = ray.direction.data();
+        k.valid_apart_from_range = bool(int(detail::finite_probe(ray.origin.data()) == 0) &
+                                        int(detail::finite_probe(dir) == 0) & int(detail::nonzero3(dir)));
         bool normal = true;
         for (int i = 0; i < 3; ++i) {
             const double d = double(ray.direction[i]);
@@ -88,6 +107,7 @@ private:
             const double a = std::abs(k.rinv[i]);
             normal &= bool(int(a >= std::numeric_limits<double>::min()) & int(a <= std::numeric_limits<double>::max()));
         }
+        k.normal_apart_from_range = normal & k.valid_apart_from_range;
         k.normal = normal & k.valid;
         return k;
     }

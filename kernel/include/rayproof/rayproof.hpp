@@ -12,6 +12,7 @@
 // internals live in detail/. Every header here stands alone (any order compiles).
 #pragma once
 
+#include <rayproof/bvh.hpp>
 #include <rayproof/closest.hpp>
 #include <rayproof/intersect.hpp>
 #include <rayproof/io.hpp>

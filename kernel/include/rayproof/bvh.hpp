@@ -1,0 +1,614 @@
+// rayproof/bvh.hpp — a wide bounding volume hierarchy over a scene of primitives that
+// never loses a hit: the closest hit, any hit, and the candidates of one ray.
+//
+// Answers:   closest_hit(ray, mode) and any_hit(ray, mode) mean exactly what the brute
+//            force over every primitive (closest.hpp) means, and answer the same:
+//            certified — identical to brute force bit for bit: the primitive whose exact
+//              t_enter is the smallest (exact ties to the lowest index) and its own
+//              certified Hit; any_hit is a hit exactly when some primitive is met.
+//            conservative — a hit whenever some primitive is met exactly, and then a
+//              t_enter no larger than the exact closest entry (so at most the certified
+//              closest t_enter); the Hit is the chosen primitive's own conservative Hit.
+//            fast — no promise beyond the ray's validity; its agreement is measured.
+//            for_each_candidate(ray, mode, t_limit, f) calls f(index) for every primitive
+//            the ray may meet on [t_min, t_limit] (every primitive kept beside the tree
+//            included): in the certified and conservative modes never skipping one the
+//            ray meets there exactly, whatever f does to t_limit meanwhile.
+//            An invalid ray is answered Verdict::invalid (closest_hit, any_hit) or with no
+//            candidate (for_each_candidate); an invalid primitive is never hit.
+// Structure: W-wide nodes (W = 4 or 8), each an AabbPacket<T, W> of its children's boxes
+//            (ray_aabb_packet.hpp) beside W child references, in one flat vector; a
+//            child is an inner node or a leaf, a range of at most leaf_size primitives in
+//            an index array. A node's lane box is the exact union (min and max, no
+//            rounding) of the boxes below it, and each primitive's box is
+//            detail::enclosing_box (primitive_bounds.hpp): a box that contains the
+//            primitive exactly. Unused lanes are empty slots (lo = +inf > hi = -inf).
+//            Primitives with no enclosing box (planes, unbounded or invalid primitives,
+//            empty polyhedra) are kept in a list beside the tree and visited by every
+//            query. The primitives are copied in their given order (the indices answered
+//            are positions in it); a ConvexPolyhedron's planes stay the caller's.
+// Build:     top-down binned SAH (the surface area heuristic of MacDonald & Booth, "Heuristics
+//            for ray tracing using space subdivision", Visual Computer 1990; binned over the
+//            centroids as in Wald, "On fast construction of SAH-based bounding volume
+//            hierarchies", IRT 2007), with binary splits collapsed into W-wide nodes the
+//            way Embree's wide BVH builders do (Wald et al., "Embree: a kernel framework for
+//            efficient CPU ray tracing", SIGGRAPH 2014): a node takes its range, then splits
+//            its largest child (by surface area) holding more than leaf_size primitives
+//            until it has W children or none is left to split. Where the bins cannot
+//            separate the centroids (all equal, or every cost infinite), and below depth
+//            bvh_sah_depth, the split is the object median on the widest centroid axis:
+//            every split leaves both sides nonempty, and the depth is at most
+//            bvh_sah_depth + 33 (each median level halves the range, fewer than 2^32
+//            primitives in the tree), which bounds the traversal stack. The build runs in
+//            the default floating-point environment (detail/fp_env.hpp): min and max of
+//            subnormals under denormals-are-zero would otherwise give a box too small.
+// Traversal: one stack, near children first. Each node is answered by one packet
+//            query on the current range [t_min, t_limit] (PreparedRay::with_range, the
+//            reciprocals kept): fast mode its fast packet; the conservative and certified
+//            modes the conservative packet, whose mask contains every lane the exact ray
+//            meets on that range and whose t_enter is a lower bound of the exact entry.
+//            Children are pushed far first by that t_enter, and a popped child whose
+//            t_enter exceeds the current t_limit is skipped. (The certified packet is
+//            exact, but pays a scalar query for its undecided lanes; the primitives'
+//            own certified queries decide the answer either way, so the conservative
+//            packet, which never culls less than the exact test would keep, suffices.)
+//            closest_hit lowers t_limit as it finds hits: certified, to next_up(b), b the
+//            best hit's faithfully rounded t_enter; conservative and fast, to b.
+//            Candidates are compared with detail::compare_entry (certified: the exact
+//            order, decided exactly where the rounded values cannot) or by t_enter
+//            (conservative, fast), ties to the lowest index.
+// Completeness (certified; the contract in ../docs/semantics.md, "BVH"): let p be a
+//            primitive whose exact t_enter E satisfies E <= E_best, the exact entry of the
+//            best hit so far (so p wins or ties). The faithful b lies within one float
+//            of E_best, so E <= E_best < next_up(b) = t_limit; the point o + E·d lies in
+//            p, hence in p's enclosing box, hence in every lane box above p (unions,
+//            exact). So every node packet on [t_min, t_limit] has that lane's bit set
+//            (the conservative packet never misses an exact meeting), and its t_enter,
+//            a lower bound of the lane's exact entry, is at most E <= t_limit: the lane
+//            is never skipped on the stack either. Every primitive that could win is
+//            therefore asked, with the caller's prepared ray (so its Hit is the very one
+//            brute force gets), and the total order (exact t_enter, then index) makes the
+//            winner independent of the visiting order. any_hit asks until the first hit,
+//            on [t_min, t_max] throughout.
+// Degenerate cases: no primitives, or only ones beside the tree (no node: every query
+//            answers from the list); a single primitive (a root with one leaf lane);
+//            many primitives with equal centroids (median splits); invalid primitives
+//            (beside the tree, never hit); t_limit below t_min or NaN in
+//            for_each_candidate (nothing in the tree can be met: no further candidate
+//            from it); t_limit above t_max (the ray's own range). -inf entries (t_min =
+//            -inf on a plane) have next_up(-inf) = the lowest float, still above E_best.
+// Environment: comparisons only in the traversal (no rounding): under
+//            denormals-are-zero a comparison x > y may answer false where it is true,
+//            never the reverse, so a child is then kept, never lost; the narrowed range
+//            end and next_up are selected and stepped by their bits, never by min or an
+//            arithmetic step. The queries themselves answer in the default environment.
+// No exception on any primitive or ray: bad primitives are kept beside the tree and
+// answered invalid by their own queries; an empty Bvh answers miss.
+#pragma once
+
+#include <rayproof/closest.hpp>
+#include <rayproof/detail/entry_order.hpp>
+#include <rayproof/detail/float_util.hpp>
+#include <rayproof/detail/fp_env.hpp>
+#include <rayproof/detail/primitive_bounds.hpp>
+#include <rayproof/detail/rounding.hpp>
+#include <rayproof/detail/validate.hpp>
+#include <rayproof/intersect.hpp>
+#include <rayproof/prepared_ray.hpp>
+#include <rayproof/ray_aabb_packet.hpp>
+#include <rayproof/types.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <type_traits>
+#include <utility>
+#include <variant>
+#include <vector>
+
+namespace rayproof {
+
+// leaf_size: the most primitives in one leaf (clamped to [1, 255]); bins: the SAH bins
+// per axis (clamped to [2, 256]).
+struct BvhOptions {
+    int leaf_size = 4;
+    int bins = 16;
+};
+
+// primitives: as given; nodes: W-wide nodes; leaves: leaf lanes; outside: primitives
+// kept beside the tree; depth: node levels (0 without a tree, 1 for a root alone);
+// bytes: the memory the Bvh holds (nodes, index arrays, the primitives' copies).
+// Every primitive is in exactly one leaf or beside the tree.
+struct BvhStats {
+    std::size_t primitives = 0, nodes = 0, leaves = 0, outside = 0;
+    int depth = 0;
+    std::size_t bytes = 0;
+};
+
+namespace detail {
+
+// Below this node depth the split is binned SAH, from it on the object median (see the
+// header comment); bvh_max_depth bounds every tree's depth.
+inline constexpr int bvh_sah_depth = 32;
+inline constexpr int bvh_max_depth = bvh_sah_depth + 34;
+
+// One node: the children's boxes in lanes, and per lane either an inner child (count
+// 0, first = its node index) or a leaf (count > 0 primitives, positions first ..
+// first + count - 1 of the index array). An empty slot has count 0 and an empty box.
+template <class T, int W> struct BvhNode {
+    AabbPacket<T, W> box;
+    std::uint32_t first[std::size_t(W)];
+    std::uint32_t count[std::size_t(W)];
+};
+
+// x's successor among the floats, by its bits alone (no comparison or arithmetic on the
+// value, so denormals-are-zero cannot change it): +inf and NaN stay, ±0 gives the
+// smallest subnormal, -min_subnormal gives -0.
+template <class T> RAYPROOF_ALWAYS_INLINE T bvh_next_up(T x) noexcept {
+    using U = FloatBits<T>;
+    constexpr U sign = U(1) << (sizeof(T) * 8 - 1);
+    const U inf_bits = std::bit_cast<U>(std::numeric_limits<T>::infinity());
+    const U b = std::bit_cast<U>(x);
+    const U mag = b & ~sign;
+    if (mag > inf_bits || b == inf_bits) return x;  // NaN, +inf
+    if (mag == 0) return std::numeric_limits<T>::denorm_min();
+    return std::bit_cast<T>((b & sign) ? U(b - 1) : U(b + 1));
+}
+
+// a when take_a, else b, selected by the bits (no min instruction, which would read
+// subnormals as zero under denormals-are-zero).
+template <class T> RAYPROOF_ALWAYS_INLINE T bvh_select(bool take_a, T a, T b) noexcept {
+    using U = FloatBits<T>;
+    const U m = U(0) - U(take_a);
+    return std::bit_cast<T>(U((std::bit_cast<U>(a) & m) | (std::bit_cast<U>(b) & U(~m))));
+}
+
+// One primitive's answer in the mode, with the caller's prepared ray (so the very Hit
+// brute force gets).
+template <class T, class Mode>
+RAYPROOF_ALWAYS_INLINE Hit<T> bvh_intersect(const PreparedRay<T>& ray, const Primitive<T>& p, Mode mode) noexcept {
+    switch (p.index()) {
+        case 0: return rayproof::intersect(ray, *std::get_if<0>(&p), mode);
+        case 1: return rayproof::intersect(ray, *std::get_if<1>(&p), mode);
+        case 2: return rayproof::intersect(ray, *std::get_if<2>(&p), mode);
+        case 3: return rayproof::intersect(ray, *std::get_if<3>(&p), mode);
+        case 4: return rayproof::intersect(ray, *std::get_if<4>(&p), mode);
+        default: return invalid_hit<T>();  // valueless: not a primitive
+    }
+}
+
+// The box a Bvh files a primitive under: enclosing_box, and only when every bound is
+// finite with lo <= hi (anything else is kept beside the tree, which is always safe).
+template <class T> std::optional<Aabb<T>> bvh_box(const Primitive<T>& p) {
+    if (p.valueless_by_exception()) return std::nullopt;
+    const std::optional<Aabb<T>> b = enclosing_box(p);
+    if (!b || !valid(*b)) return std::nullopt;
+    return b;
+}
+
+}  // namespace detail
+
+template <class T, int W = 8> class Bvh {
+    static_assert(is_scalar_v<T> && (W == 4 || W == 8), "Bvh<T, W>: T float or double, W 4 or 8");
+
+public:
+    Bvh() = default;
+
+    // Copies the primitives and builds the tree (see the header comment). Never throws on
+    // a bad primitive (it is kept beside the tree); only memory exhaustion throws.
+    explicit Bvh(std::span<const Primitive<T>> prims, BvhOptions opt = {}) : prims_(prims.begin(), prims.end()) {
+        const detail::FpEnvGuard guard;
+        build(opt);
+    }
+
+    [[nodiscard]] std::span<const Primitive<T>> primitives() const noexcept { return prims_; }
+
+    [[nodiscard]] BvhStats stats() const noexcept {
+        BvhStats s;
+        s.primitives = prims_.size();
+        s.nodes = nodes_.size();
+        s.outside = outside_.size();
+        s.depth = depth_;
+        for (const Node& n : nodes_)
+            for (int i = 0; i < W; ++i) s.leaves += std::size_t(n.count[i] > 0);
+        s.bytes = sizeof(*this) + nodes_.capacity() * sizeof(Node) + order_.capacity() * sizeof(std::uint32_t) +
+                  outside_.capacity() * sizeof(std::size_t) + prims_.capacity() * sizeof(Primitive<T>);
+        return s;
+    }
+
+    // The tree as built, for inspection (tests, tools): nodes()[0] is the root (none
+    // without a tree); a leaf lane's primitives are leaf_indices()[first .. first +
+    // count - 1]; outside() lists the primitives kept beside the tree, ascending.
+    [[nodiscard]] std::span<const detail::BvhNode<T, W>> nodes() const noexcept { return nodes_; }
+    [[nodiscard]] std::span<const std::uint32_t> leaf_indices() const noexcept { return order_; }
+    [[nodiscard]] std::span<const std::size_t> outside() const noexcept { return outside_; }
+
+    // The brute force's answer (closest.hpp) in the mode's sense: see the header comment.
+    template <class Mode>
+        requires is_mode_v<Mode>
+    [[nodiscard]] ClosestHit<T> closest_hit(const PreparedRay<T>& ray, Mode mode) const noexcept {
+        ClosestHit<T> best;
+        if (!ray.valid()) return invalid_answer();
+        const T t_max = ray.ray().t_max;
+        T limit = t_max;
+        for_each_candidate(ray, mode, limit, [&](std::size_t i) noexcept {
+            const Hit<T> h = detail::bvh_intersect(ray, prims_[i], mode);
+            if (h.verdict != Verdict::hit) return true;
+            const auto idx = std::int64_t(i);
+            bool take = best.index < 0;
+            if (!take) {
+                if constexpr (std::is_same_v<Mode, certified_t>) {
+                    const int c =
+                        detail::compare_entry(ray, prims_[i], h, prims_[std::size_t(best.index)], best.hit);
+                    take = c < 0 || (c == 0 && idx < best.index);
+                } else {
+                    take = h.t_enter < best.hit.t_enter || (!(best.hit.t_enter < h.t_enter) && idx < best.index);
+                }
+            }
+            if (take) {
+                best.verdict = Verdict::hit;
+                best.index = idx;
+                best.hit = h;
+                // Certified: the exact entry of the best lies below next_up(b) (faithful
+                // b); a primitive that wins or ties is met there (the header comment).
+                const T next = std::is_same_v<Mode, certified_t> ? detail::bvh_next_up(h.t_enter) : h.t_enter;
+                limit = detail::bvh_select(next < t_max, next, t_max);
+            }
+            return true;
+        });
+        return best;
+    }
+    template <class Mode>
+        requires is_mode_v<Mode>
+    [[nodiscard]] ClosestHit<T> closest_hit(const Ray<T>& ray, Mode mode) const noexcept {
+        return closest_hit(PreparedRay<T>(ray), mode);
+    }
+
+    // Some primitive hit (its own Hit in the mode), the first one met; see the header
+    // comment for what each mode promises.
+    template <class Mode>
+        requires is_mode_v<Mode>
+    [[nodiscard]] ClosestHit<T> any_hit(const PreparedRay<T>& ray, Mode mode) const noexcept {
+        ClosestHit<T> best;
+        if (!ray.valid()) return invalid_answer();
+        T limit = ray.ray().t_max;
+        for_each_candidate(ray, mode, limit, [&](std::size_t i) noexcept {
+            const Hit<T> h = detail::bvh_intersect(ray, prims_[i], mode);
+            if (h.verdict != Verdict::hit) return true;
+            best.verdict = Verdict::hit;
+            best.index = std::int64_t(i);
+            best.hit = h;
+            return false;
+        });
+        return best;
+    }
+    template <class Mode>
+        requires is_mode_v<Mode>
+    [[nodiscard]] ClosestHit<T> any_hit(const Ray<T>& ray, Mode mode) const noexcept {
+        return any_hit(PreparedRay<T>(ray), mode);
+    }
+
+    // f(std::size_t index) -> bool for every primitive the ray may meet on [t_min,
+    // t_limit] (the primitives beside the tree first, then the tree's, near leaves
+    // first); f may lower t_limit and returns false to stop. Certified and conservative:
+    // never skips a primitive the ray meets on [t_min, t_limit] exactly, for the
+    // t_limit of the moment.
+    template <class Mode, class F>
+        requires is_mode_v<Mode>
+    void for_each_candidate(const PreparedRay<T>& ray, Mode mode, T& t_limit, F&& f) const {
+        if (!ray.valid()) return;
+        for (const std::size_t i : outside_)
+            if (!f(i)) return;
+        if (nodes_.empty()) return;
+        traverse(ray, mode, t_limit, f);
+    }
+
+private:
+    using Node = detail::BvhNode<T, W>;
+
+    static ClosestHit<T> invalid_answer() noexcept {
+        ClosestHit<T> r;
+        r.verdict = Verdict::invalid;
+        r.hit = detail::invalid_hit<T>();
+        return r;
+    }
+
+    // The node packet in the mode: fast its own; conservative and certified the
+    // conservative packet (mask ⊇ the exact one, t_enter a lower bound of the exact
+    // entry).
+    template <class Mode> static PacketHit<T, W> node_test(const PreparedRay<T>& r, const Node& n, Mode) noexcept {
+        if constexpr (std::is_same_v<Mode, fast_t>)
+            return rayproof::intersect(r, n.box, fast);
+        else
+            return rayproof::intersect(r, n.box, conservative);
+    }
+
+    struct Entry {
+        std::uint32_t first, count;  // as a node lane: count 0 an inner node
+        T t;                         // the lane's t_enter (conservative, certified: a lower bound)
+    };
+    static constexpr std::size_t stack_capacity = std::size_t(detail::bvh_max_depth + 1) * std::size_t(W);
+
+    template <class Mode, class F> void traverse(const PreparedRay<T>& ray, Mode mode, T& t_limit, F& f) const {
+        const T t_min = ray.ray().t_min, t_max = ray.ray().t_max;
+        // The node ray on [t_min, min(t_limit, t_max)], selected by the bits; invalid
+        // (t_limit below t_min, or NaN) means nothing more can be met.
+        T limit = t_limit;
+        auto narrowed = [&](T lim) noexcept {
+            const bool keep = (lim < t_max) | (lim != lim);  // NaN: an invalid range
+            return ray.with_range(t_min, detail::bvh_select(keep, lim, t_max));
+        };
+        PreparedRay<T> nr = narrowed(limit);
+        if (!nr.valid()) return;
+        T cut = nr.ray().t_max;
+
+        std::array<Entry, stack_capacity> stack;
+        std::size_t sp = 0;
+        stack[sp++] = Entry{0, 0, -detail::inf<T>};
+        while (sp > 0) {
+            const Entry e = stack[--sp];
+            if (e.t > cut) continue;  // the lane's entry lies beyond the range
+            if (e.count > 0) {
+                for (std::uint32_t k = e.first; k < e.first + e.count; ++k) {
+                    if (!f(std::size_t(order_[k]))) return;
+                    if (!(t_limit == limit)) {  // f moved the limit (bits differ or NaN)
+                        limit = t_limit;
+                        nr = narrowed(limit);
+                        if (!nr.valid()) return;
+                        cut = nr.ray().t_max;
+                    }
+                }
+                continue;
+            }
+            const Node& n = nodes_[e.first];
+            const PacketHit<T, W> ph = node_test(nr, n, mode);
+            // Hit lanes sorted by t_enter, descending, then pushed: the nearest on top.
+            Entry hits[std::size_t(W)];
+            int m = 0;
+            for (std::uint32_t u = ph.mask; u != 0; u &= u - 1) {
+                const int i = std::countr_zero(u);
+                Entry c{n.first[i], n.count[i], ph.t_enter[i]};
+                int j = m++;
+                for (; j > 0 && hits[j - 1].t < c.t; --j) hits[j] = hits[j - 1];
+                hits[j] = c;
+            }
+            for (int j = 0; j < m; ++j) stack[sp++] = hits[j];
+        }
+    }
+
+    // --- build ---------------------------------------------------------------------------
+    struct Ref {
+        T lo[3], hi[3];
+        double c[3];  // the centroid, lo/2 + hi/2 (no overflow)
+        std::uint32_t index;
+    };
+    struct Range {
+        std::uint32_t begin, end;
+        T lo[3], hi[3];
+        std::uint32_t size() const { return end - begin; }
+    };
+
+    static double half_area(const T* lo, const T* hi) {
+        const double x = double(hi[0]) - double(lo[0]), y = double(hi[1]) - double(lo[1]),
+                     z = double(hi[2]) - double(lo[2]);
+        return x * y + y * z + z * x;
+    }
+
+    Range make_range(std::uint32_t b, std::uint32_t e) const {
+        Range r{b, e, {}, {}};
+        for (int a = 0; a < 3; ++a) {
+            r.lo[a] = detail::inf<T>;
+            r.hi[a] = -detail::inf<T>;
+        }
+        for (std::uint32_t k = b; k < e; ++k)
+            for (int a = 0; a < 3; ++a) {
+                r.lo[a] = std::min(r.lo[a], refs_[k].lo[a]);
+                r.hi[a] = std::max(r.hi[a], refs_[k].hi[a]);
+            }
+        return r;
+    }
+
+    // Splits r's references in place into two nonempty halves; returns the split position.
+    std::uint32_t split(const Range& r, int depth, int bins) {
+        double clo[3], chi[3];
+        for (int a = 0; a < 3; ++a) {
+            clo[a] = detail::inf<double>;
+            chi[a] = -detail::inf<double>;
+        }
+        for (std::uint32_t k = r.begin; k < r.end; ++k)
+            for (int a = 0; a < 3; ++a) {
+                clo[a] = std::min(clo[a], refs_[k].c[a]);
+                chi[a] = std::max(chi[a], refs_[k].c[a]);
+            }
+        // Halved, so that the extent cannot overflow; not > 0 (equal, or subnormals
+        // halved to equal values) marks an axis the bins cannot use.
+        double ext[3];
+        for (int a = 0; a < 3; ++a) ext[a] = chi[a] * 0.5 - clo[a] * 0.5;
+        auto bin_of = [&](const Ref& ref, int a) {
+            const double t = (ref.c[a] * 0.5 - clo[a] * 0.5) / ext[a] * double(bins);
+            return int(std::min(double(bins - 1), std::max(0.0, t)));  // NaN -> 0
+        };
+        if (depth < detail::bvh_sah_depth) {
+            double best_cost = detail::inf<double>;
+            int best_axis = -1, best_bin = -1;
+            struct Bin {
+                T lo[3], hi[3];
+                std::uint32_t n;
+            };
+            std::vector<Bin> bin(static_cast<std::size_t>(bins));
+            std::vector<double> right_cost(static_cast<std::size_t>(bins));
+            for (int a = 0; a < 3; ++a) {
+                if (!(ext[a] > 0)) continue;
+                for (Bin& b : bin) {
+                    b.n = 0;
+                    for (int i = 0; i < 3; ++i) {
+                        b.lo[i] = detail::inf<T>;
+                        b.hi[i] = -detail::inf<T>;
+                    }
+                }
+                for (std::uint32_t k = r.begin; k < r.end; ++k) {
+                    Bin& b = bin[std::size_t(bin_of(refs_[k], a))];
+                    ++b.n;
+                    for (int i = 0; i < 3; ++i) {
+                        b.lo[i] = std::min(b.lo[i], refs_[k].lo[i]);
+                        b.hi[i] = std::max(b.hi[i], refs_[k].hi[i]);
+                    }
+                }
+                // right_cost[j]: area · count of bins j .. bins-1.
+                Bin acc{{detail::inf<T>, detail::inf<T>, detail::inf<T>}, {-detail::inf<T>, -detail::inf<T>, -detail::inf<T>}, 0};
+                for (int j = bins - 1; j >= 1; --j) {
+                    const Bin& b = bin[std::size_t(j)];
+                    acc.n += b.n;
+                    for (int i = 0; i < 3; ++i) {
+                        acc.lo[i] = std::min(acc.lo[i], b.lo[i]);
+                        acc.hi[i] = std::max(acc.hi[i], b.hi[i]);
+                    }
+                    right_cost[std::size_t(j)] = acc.n ? half_area(acc.lo, acc.hi) * double(acc.n) : 0.0;
+                }
+                acc = Bin{{detail::inf<T>, detail::inf<T>, detail::inf<T>}, {-detail::inf<T>, -detail::inf<T>, -detail::inf<T>}, 0};
+                for (int j = 0; j + 1 < bins; ++j) {
+                    const Bin& b = bin[std::size_t(j)];
+                    acc.n += b.n;
+                    for (int i = 0; i < 3; ++i) {
+                        acc.lo[i] = std::min(acc.lo[i], b.lo[i]);
+                        acc.hi[i] = std::max(acc.hi[i], b.hi[i]);
+                    }
+                    if (acc.n == 0 || acc.n == r.size()) continue;
+                    const double cost = half_area(acc.lo, acc.hi) * double(acc.n) + right_cost[std::size_t(j + 1)];
+                    if (cost < best_cost) {
+                        best_cost = cost;
+                        best_axis = a;
+                        best_bin = j;
+                    }
+                }
+            }
+            if (best_axis >= 0) {
+                const auto mid = std::partition(refs_.begin() + r.begin, refs_.begin() + r.end,
+                                                [&](const Ref& ref) { return bin_of(ref, best_axis) <= best_bin; });
+                const auto s = std::uint32_t(mid - refs_.begin());
+                if (s > r.begin && s < r.end) return s;
+            }
+        }
+        // The object median on the widest centroid axis (any axis when none is wide).
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+            if (ext[a] > ext[axis]) axis = a;
+        const std::uint32_t s = r.begin + r.size() / 2;
+        std::nth_element(refs_.begin() + r.begin, refs_.begin() + s, refs_.begin() + r.end,
+                         [axis](const Ref& x, const Ref& y) {
+                             return x.c[axis] < y.c[axis] || (!(y.c[axis] < x.c[axis]) && x.index < y.index);
+                         });
+        return s;
+    }
+
+    void build(BvhOptions opt) {
+        const auto leaf_size = std::uint32_t(std::clamp(opt.leaf_size, 1, 255));
+        const int bins = std::clamp(opt.bins, 2, 256);
+        // Primitives beyond 2^32 - 2 are kept beside the tree (uint32 indices in it).
+        constexpr std::size_t max_in_tree = std::numeric_limits<std::uint32_t>::max() - 1;
+        for (std::size_t i = 0; i < prims_.size(); ++i) {
+            const std::optional<Aabb<T>> b = i < max_in_tree ? detail::bvh_box(prims_[i]) : std::nullopt;
+            if (!b) {
+                outside_.push_back(i);
+                continue;
+            }
+            Ref r;
+            for (int a = 0; a < 3; ++a) {
+                r.lo[a] = b->lo[a];
+                r.hi[a] = b->hi[a];
+                r.c[a] = double(r.lo[a]) * 0.5 + double(r.hi[a]) * 0.5;
+            }
+            r.index = std::uint32_t(i);
+            refs_.push_back(r);
+        }
+        if (refs_.empty()) {
+            finish();
+            return;
+        }
+        struct Task {
+            std::uint32_t parent;  // node index; unused for the root
+            int lane;              // -1: the root
+            Range range;
+            int depth;
+        };
+        std::vector<Task> tasks;
+        tasks.push_back(Task{0, -1, make_range(0, std::uint32_t(refs_.size())), 1});
+        while (!tasks.empty()) {
+            const Task task = tasks.back();
+            tasks.pop_back();
+            const auto id = std::uint32_t(nodes_.size());
+            if (task.lane >= 0) nodes_[task.parent].first[task.lane] = id;
+            depth_ = std::max(depth_, task.depth);
+            // The node's children: the range, then its largest splittable child split
+            // until W children or none is left to split.
+            Range child[std::size_t(W)];
+            int n = 1;
+            child[0] = task.range;
+            while (n < W) {
+                int pick = -1;
+                double pick_area = -1;
+                for (int i = 0; i < n; ++i) {
+                    if (child[i].size() <= leaf_size) continue;
+                    const double area = half_area(child[i].lo, child[i].hi);
+                    // NaN or inf areas still count (>= keeps the first such child).
+                    if (pick < 0 || area > pick_area) {
+                        pick = i;
+                        pick_area = area;
+                    }
+                }
+                if (pick < 0) break;
+                const Range c = child[pick];
+                const std::uint32_t s = split(c, task.depth, bins);
+                child[pick] = make_range(c.begin, s);
+                child[n++] = make_range(s, c.end);
+            }
+            Node node;
+            for (int i = 0; i < W; ++i) {
+                for (int a = 0; a < 3; ++a) {
+                    node.box.lo[a][i] = detail::inf<T>;
+                    node.box.hi[a][i] = -detail::inf<T>;
+                }
+                node.first[i] = 0;
+                node.count[i] = 0;
+            }
+            for (int i = 0; i < n; ++i) {
+                for (int a = 0; a < 3; ++a) {
+                    node.box.lo[a][i] = child[i].lo[a];
+                    node.box.hi[a][i] = child[i].hi[a];
+                }
+                if (child[i].size() <= leaf_size) {
+                    node.first[i] = child[i].begin;
+                    node.count[i] = child[i].size();
+                }
+            }
+            nodes_.push_back(node);
+            for (int i = n - 1; i >= 0; --i)
+                if (child[i].size() > leaf_size) tasks.push_back(Task{id, i, child[i], task.depth + 1});
+        }
+        finish();
+    }
+
+    void finish() {
+        order_.resize(refs_.size());
+        for (std::size_t k = 0; k < refs_.size(); ++k) order_[k] = refs_[k].index;
+        refs_.clear();
+        refs_.shrink_to_fit();
+        nodes_.shrink_to_fit();
+        outside_.shrink_to_fit();
+    }
+
+    std::vector<Primitive<T>> prims_;
+    std::vector<Node> nodes_;              // nodes_[0] the root (when there is a tree)
+    std::vector<std::uint32_t> order_;     // leaf positions -> primitive indices
+    std::vector<std::size_t> outside_;     // primitives beside the tree, ascending
+    std::vector<Ref> refs_;                // the build's scratch (empty after it)
+    int depth_ = 0;
+};
+
+}  // namespace rayproof
