@@ -165,6 +165,21 @@ template <class F> Order order_of(F f, const ExactValue& v) {
 Order compare(float f, const ExactValue& v) { return order_of(f, v); }
 Order compare(double f, const ExactValue& v) { return order_of(f, v); }
 
+Order compare(const ExactValue& a, const ExactValue& b) {
+    using Kind = ExactValue::Kind;
+    if (!a.has_value() || !b.has_value()) return Order::unordered;
+    // The infinities by rank: -inf < every finite value < +inf.
+    const auto rank = [](Kind k) { return k == Kind::minus_infinity ? -1 : k == Kind::plus_infinity ? 1 : 0; };
+    const int ra = rank(a.kind()), rb = rank(b.kind());
+    if (ra != rb || ra != 0) return ra < rb ? Order::below : ra > rb ? Order::above : Order::equal;
+    // Two finite values as CGAL Root_of_2 numbers, compared across extensions.
+    const auto root = [](const ExactValue::Impl& im) {
+        return im.kind == Kind::rational ? Root2(im.p) : Root2(im.p, Q(im.sigma), im.r);
+    };
+    const CGAL::Comparison_result c = CGAL::compare(root(*a.impl()), root(*b.impl()));
+    return c == CGAL::SMALLER ? Order::below : c == CGAL::LARGER ? Order::above : Order::equal;
+}
+
 template <class T> std::optional<Verdict> verdict(const Ray<T>& ray, const Aabb<T>& box) {
     if (!oracle::valid(ray) || !oracle::valid(box)) return std::nullopt;
     const K::Iso_cuboid_3 cub{point(box.lo), point(box.hi)};

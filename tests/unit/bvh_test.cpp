@@ -16,7 +16,8 @@
 // and empty polyhedra, planes and invalid primitives (1 to 600 primitives), with rays
 // aimed at primitives, random rays, rays parallel to axes and rays whose [t_min,
 // t_max] cuts the scene; and adversarial ones: no primitive, one, only planes, only
-// invalid ones, coincident boxes (ties to the lowest index), touching boxes with a ray
+// invalid ones, directions beyond the node filters' ranges, coincident boxes (ties to
+// the lowest index), touching boxes with a ray
 // along their shared face and through their shared edges, many spheres entered at the
 // same t, a thousand equal centroids (median splits), invalid rays. Beside the answers:
 // stats() (every primitive in exactly one leaf or beside the tree, the counts), node
@@ -31,6 +32,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cfenv>
 #include <cmath>
 #include <cstdint>
 #include <deque>
@@ -44,6 +46,10 @@
 #include <utility>
 #include <variant>
 #include <vector>
+
+#if defined(__x86_64__) || defined(_M_X64)
+#include <xmmintrin.h>
+#endif
 
 using namespace rayproof;
 using rayproof::testing::same_bits;
@@ -470,6 +476,37 @@ TYPED_TEST(BvhTest, InvalidRays) {
     }
 }
 
+// Directions whose reciprocals the node filters cannot use (a float tree's float lanes
+// need |d_i| in [2^-128, 2^126], the double lanes |d_i| < 2^1022): the node tests
+// fall back to wider lanes or to the scalar query, and the answers stay those of brute
+// force.
+TYPED_TEST(BvhTest, ExtremeDirections) {
+    using T = typename TypeParam::type;
+    constexpr int W = TypeParam::width;
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::mt19937_64 g = make_rng();
+    const Scene<T> s = random_scene<T>(g, 200);
+    const Bvh<T, W> bvh(s.prims);
+    const T tiny = std::numeric_limits<T>::denorm_min() * T(3), huge = std::numeric_limits<T>::max() / T(4);
+    std::uniform_real_distribution<double> u(-12, 12);
+    std::size_t hits = 0;
+    for (int k = 0; k < 60; ++k) {
+        const Vec3<T> to = aim(s.prims[std::size_t(g() % s.prims.size())]), from = v3<T>(u(g), u(g), u(g));
+        Vec3<T> d = to - from;
+        const int a = int(g() % 3);
+        switch (k % 4) {
+            case 0: d[a] = tiny; break;                                   // a subnormal component
+            case 1: d[a] = -tiny; d[(a + 1) % 3] = T(0x1p-130); break;    // below the float lanes' range
+            case 2: d *= T(0x1p100); d[a] = huge; break;                  // beyond the float lanes' range
+            default: d = d.normalized() * huge; break;                    // every component huge
+        }
+        if (d.isZero()) d[a] = T(1);
+        hits += check_ray(bvh, s.prims, Ray<T>{from, d});
+        if (::testing::Test::HasFailure()) return;
+    }
+    EXPECT_GT(hits, 5u);
+}
+
 // Coincident and touching boxes, a ray along their shared face and through a shared
 // edge, equal entries everywhere: ties go to the lowest index.
 TYPED_TEST(BvhTest, TiesTouchingAndCoincident) {
@@ -562,6 +599,75 @@ TYPED_TEST(BvhTest, WithRangeEqualsPreparedOnTheRange) {
             }
         }
 }
+
+#if defined(__x86_64__) || defined(_M_X64)
+// The caller's floating-point environment does not change the answers: under
+// flush-to-zero with denormals-are-zero, and under upward rounding, the tree is built
+// the same bit for bit and certified closest_hit equals the brute force asked in the
+// default environment, on a scene at a normal scale and on one scaled into the
+// subnormals (where DAZ would read every coordinate as zero).
+template <class T, int W> void check_foreign_env(unsigned csr_bits, int round) {
+    std::mt19937_64 g = make_rng();
+    std::uniform_real_distribution<double> u(-12, 12);
+    for (const double scale : {1.0, sizeof(T) == 4 ? 0x1p-140 : 0x1p-1060}) {
+        Scene<T> s = random_scene<T>(g, 50);
+        auto sc = [&](T x) { return T(double(x) * scale); };
+        for (Primitive<T>& p : s.prims) {
+            if (auto* a = std::get_if<Aabb<T>>(&p)) *a = Aabb<T>{a->lo.unaryExpr(sc), a->hi.unaryExpr(sc)};
+            if (auto* b = std::get_if<Sphere<T>>(&p)) *b = Sphere<T>{b->center.unaryExpr(sc), sc(b->radius)};
+            if (auto* o = std::get_if<Obb<T>>(&p)) *o = Obb<T>{o->center.unaryExpr(sc), o->axes, o->half_extent.unaryExpr(sc)};
+        }
+        const Bvh<T, W> home(s.prims);
+        std::vector<Ray<T>> rays;
+        std::vector<ClosestHit<T>> refs;
+        for (int k = 0; k < 40; ++k) {
+            const Vec3<T> o = v3<T>(u(g), u(g), u(g)).unaryExpr(sc);
+            rays.push_back(k % 2 ? ray_to(o, aim(s.prims[std::size_t(g() % s.prims.size())])) : Ray<T>{o, v3<T>(u(g), u(g), u(g))});
+            refs.push_back(closest_hit(rays.back(), std::span<const Primitive<T>>(s.prims), certified));
+        }
+        const unsigned saved = _mm_getcsr();
+        _mm_setcsr(saved | csr_bits);
+        const int saved_round = std::fegetround();
+        std::fesetround(round);
+        const Bvh<T, W> away(s.prims);
+        std::vector<ClosestHit<T>> got, cons;
+        for (const Ray<T>& r : rays) {
+            got.push_back(away.closest_hit(r, certified));
+            cons.push_back(away.closest_hit(r, conservative));
+        }
+        std::fesetround(saved_round);
+        _mm_setcsr(saved);
+        SCOPED_TRACE("scale " + std::to_string(scale));
+        ASSERT_EQ(home.nodes().size(), away.nodes().size());
+        for (std::size_t n = 0; n < home.nodes().size(); ++n)
+            for (int a = 0; a < 3; ++a)
+                for (int i = 0; i < W; ++i) {
+                    EXPECT_TRUE(same_bits(home.nodes()[n].box.lo[a][i], away.nodes()[n].box.lo[a][i])) << n;
+                    EXPECT_TRUE(same_bits(home.nodes()[n].box.hi[a][i], away.nodes()[n].box.hi[a][i])) << n;
+                }
+        std::size_t hits = 0;
+        for (std::size_t k = 0; k < rays.size(); ++k) {
+            SCOPED_TRACE(repro(rays[k], s.prims, refs[k].index, got[k].index));
+            EXPECT_EQ(got[k].verdict, refs[k].verdict);
+            EXPECT_EQ(got[k].index, refs[k].index);
+            EXPECT_TRUE(same_hit(got[k].hit, refs[k].hit));
+            if (refs[k]) {
+                EXPECT_TRUE(bool(cons[k]));
+            }
+            hits += bool(refs[k]);
+        }
+        EXPECT_GT(hits, 0u);
+    }
+}
+TYPED_TEST(BvhTest, AnswersAlikeInAForeignEnvironment) {
+    using T = typename TypeParam::type;
+    constexpr int W = TypeParam::width;
+    RAYPROOF_SEED_TRACE(base_seed());
+    check_foreign_env<T, W>(0x8040u, FE_TONEAREST);  // FTZ (bit 15), DAZ (bit 6)
+    check_foreign_env<T, W>(0u, FE_UPWARD);
+    check_foreign_env<T, W>(0x8040u, FE_DOWNWARD);
+}
+#endif
 
 // The bit helpers the traversal uses in place of min and nextafter.
 TYPED_TEST(BvhTest, BitHelpers) {

@@ -45,8 +45,9 @@
 // Traversal: one stack, near children first. Each node is answered by one packet
 //            query on the current range [t_min, t_limit] (PreparedRay::with_range, the
 //            reciprocals kept): fast mode its fast packet; the conservative and certified
-//            modes the conservative packet, whose mask contains every lane the exact ray
-//            meets on that range and whose t_enter is a lower bound of the exact entry.
+//            modes the conservative packet's filter (bvh_node_conservative), whose mask
+//            contains every lane the exact ray meets on that range and whose entry
+//            enclosure's lower end (kept in double) bounds the lane's exact entry below.
 //            Children are pushed far first by that t_enter, and a popped child whose
 //            t_enter exceeds the current t_limit is skipped. (The certified packet is
 //            exact, but pays a scalar query for its undecided lanes; the primitives'
@@ -77,11 +78,14 @@
 //            for_each_candidate (nothing in the tree can be met: no further candidate
 //            from it); t_limit above t_max (the ray's own range). -inf entries (t_min =
 //            -inf on a plane) have next_up(-inf) = the lowest float, still above E_best.
-// Environment: comparisons only in the traversal (no rounding): under
-//            denormals-are-zero a comparison x > y may answer false where it is true,
-//            never the reverse, so a child is then kept, never lost; the narrowed range
-//            end and next_up are selected and stepped by their bits, never by min or an
-//            arithmetic step. The queries themselves answer in the default environment.
+// Environment: certified and conservative closest_hit and any_hit answer in the default
+//            floating-point environment whatever the caller's (detail/fp_env.hpp), as the
+//            brute force does: compare_entry and the primitives' comparisons assume it.
+//            for_each_candidate runs its callback in the caller's environment; its node
+//            tests answer in the default one, and the traversal itself only compares
+//            (under denormals-are-zero x > y may answer false where it is true, never the
+//            reverse, so a child is then kept, never lost) and selects the narrowed range
+//            end and steps next_up by their bits, never by min or arithmetic.
 // No exception on any primitive or ray: bad primitives are kept beside the tree and
 // answered invalid by their own queries; an empty Bvh answers miss.
 #pragma once
@@ -192,6 +196,66 @@ template <class T> std::optional<Aabb<T>> bvh_box(const Primitive<T>& p) {
     return b;
 }
 
+// The conservative node test: the conservative packet's filter (ray_aabb_packet.hpp,
+// the same decisions as its mask, so it never drops a lane the exact ray meets on the
+// prepared ray's range) with the lower end of each hit lane's entry enclosure,
+// max(t_min, lo(m)) <= the lane's exact entry, kept in double in t[i] (no rounding to T,
+// no other field). Lanes whose values overflow, and rays whose reciprocals the filter
+// cannot use, take the scalar conservative query, whose t_enter is such a bound too.
+// Needs the default floating-point environment (the caller establishes or checks it).
+template <class B, class T, int W>
+RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_conservative(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
+                                                           double (&t)[std::size_t(W)]) noexcept {
+    if (!pr.valid()) return 0;
+    std::uint32_t mask = 0;
+    if (!packet::all_axes_usable<double>(pr)) [[unlikely]] {
+        for (int i = 0; i < W; ++i)
+            if (valid(b.box(i))) {
+                const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
+                mask |= std::uint32_t(h.verdict == Verdict::hit) << i;
+                t[i] = double(h.t_enter);
+            }
+        return mask;
+    }
+    if constexpr (std::is_same_v<T, float>) {
+        // Float trees: the certified packet's float filter (twice the lanes per
+        // register), where every reciprocal is a normal float. Its enclosures
+        // [max(t_min, lo(m)), max(t_min, hi(m))] of the exact latest entry and
+        // [min(t_max, lo(M)), min(t_max, hi(M))] of the exact earliest exit (K =
+        // 2·gamma_f(4), eta = 2^-126, ray_aabb_packet.hpp) leave a lane a possible hit
+        // unless the exit's upper end lies below the entry's lower end (the certified
+        // filter's proven miss): the same expressions, so the same guarantee.
+        if (packet::all_axes_usable<float>(pr)) [[likely]] {
+            using V = simd::Vec<float, W, B>;
+            const packet::Filtered<float, B, T, W> f = packet::filter<float, B, false>(pr, b);
+            const V K = V::splat(packet::Bound<float>::K), eta = V::splat(packet::Bound<float>::eta);
+            const V bm = abs(f.m) * K + eta, bM = abs(f.M_) * K + eta;
+            const V e_lo = max(f.m - bm, V::splat(pr.ray().t_min)), x_hi = min(f.M_ + bM, V::splat(pr.ray().t_max));
+            mask = (f.ok & f.finite & (e_lo <= x_hi)).bits();
+            float lo[std::size_t(W)];
+            e_lo.store(lo);
+            for (int i = 0; i < W; ++i) t[i] = double(lo[i]);
+            for (std::uint32_t u = simd::and_not(f.ok, f.finite).bits(); u != 0; u &= u - 1) {
+                const int i = std::countr_zero(u);
+                const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
+                mask |= std::uint32_t(h.verdict == Verdict::hit) << i;
+                t[i] = double(h.t_enter);
+            }
+            return mask;
+        }
+    }
+    const packet::Filtered<double, B, T, W> f = packet::filter<double, B, true>(pr, b);
+    mask = (f.ok & f.finite & (f.e_lo <= f.x_hi)).bits();
+    f.e_lo.store(t);
+    for (std::uint32_t u = simd::and_not(f.ok, f.finite).bits(); u != 0; u &= u - 1) {
+        const int i = std::countr_zero(u);
+        const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
+        mask |= std::uint32_t(h.verdict == Verdict::hit) << i;
+        t[i] = double(h.t_enter);
+    }
+    return mask;
+}
+
 }  // namespace detail
 
 template <class T, int W = 8> class Bvh {
@@ -230,14 +294,71 @@ public:
     [[nodiscard]] std::span<const std::size_t> outside() const noexcept { return outside_; }
 
     // The brute force's answer (closest.hpp) in the mode's sense: see the header comment.
+    // The certified and conservative forms answer in the default floating-point
+    // environment whatever the caller's, as the brute force does (detail/fp_env.hpp):
+    // compare_entry and the comparisons of t assume it.
     template <class Mode>
         requires is_mode_v<Mode>
     [[nodiscard]] ClosestHit<T> closest_hit(const PreparedRay<T>& ray, Mode mode) const noexcept {
+        if constexpr (detail::fp_env_guarded<Mode>)
+            return detail::in_default_fp_env(
+                [this](const PreparedRay<T>& r) noexcept { return closest_in_env(r, Mode{}); }, ray);
+        else
+            return closest_in_env(ray, mode);
+    }
+    template <class Mode>
+        requires is_mode_v<Mode>
+    [[nodiscard]] ClosestHit<T> closest_hit(const Ray<T>& ray, Mode mode) const noexcept {
+        return closest_hit(PreparedRay<T>(ray), mode);
+    }
+
+    // Some primitive hit (its own Hit in the mode), the first one met; see the header
+    // comment for what each mode promises. Environment as closest_hit.
+    template <class Mode>
+        requires is_mode_v<Mode>
+    [[nodiscard]] ClosestHit<T> any_hit(const PreparedRay<T>& ray, Mode mode) const noexcept {
+        if constexpr (detail::fp_env_guarded<Mode>)
+            return detail::in_default_fp_env([this](const PreparedRay<T>& r) noexcept { return any_in_env(r, Mode{}); },
+                                             ray);
+        else
+            return any_in_env(ray, mode);
+    }
+    template <class Mode>
+        requires is_mode_v<Mode>
+    [[nodiscard]] ClosestHit<T> any_hit(const Ray<T>& ray, Mode mode) const noexcept {
+        return any_hit(PreparedRay<T>(ray), mode);
+    }
+
+    // f(std::size_t index) -> bool for every primitive the ray may meet on [t_min,
+    // t_limit] (the primitives beside the tree first, then the tree's, near leaves
+    // first); f may lower t_limit and returns false to stop. Certified and conservative:
+    // never skips a primitive the ray meets on [t_min, t_limit] exactly, for the
+    // t_limit of the moment. f runs in the caller's floating-point environment; the
+    // node tests answer in the default one, and the traversal itself only compares.
+    template <class Mode, class F>
+        requires is_mode_v<Mode>
+    void for_each_candidate(const PreparedRay<T>& ray, Mode mode, T& t_limit, F&& f) const {
+        candidates<false>(ray, mode, t_limit, f);
+    }
+
+private:
+    using Node = detail::BvhNode<T, W>;
+
+    template <bool Known, class Mode, class F>
+    void candidates(const PreparedRay<T>& ray, Mode mode, T& t_limit, F& f) const {
+        if (!ray.valid()) return;
+        for (const std::size_t i : outside_)
+            if (!f(i)) return;
+        if (nodes_.empty()) return;
+        traverse<Known>(ray, mode, t_limit, f);
+    }
+
+    template <class Mode> ClosestHit<T> closest_in_env(const PreparedRay<T>& ray, Mode mode) const noexcept {
         ClosestHit<T> best;
         if (!ray.valid()) return invalid_answer();
         const T t_max = ray.ray().t_max;
         T limit = t_max;
-        for_each_candidate(ray, mode, limit, [&](std::size_t i) noexcept {
+        auto consider = [&](std::size_t i) noexcept {
             const Hit<T> h = detail::bvh_intersect(ray, prims_[i], mode);
             if (h.verdict != Verdict::hit) return true;
             const auto idx = std::int64_t(i);
@@ -261,56 +382,26 @@ public:
                 limit = detail::bvh_select(next < t_max, next, t_max);
             }
             return true;
-        });
+        };
+        candidates<detail::fp_env_guarded<Mode>>(ray, mode, limit, consider);
         return best;
     }
-    template <class Mode>
-        requires is_mode_v<Mode>
-    [[nodiscard]] ClosestHit<T> closest_hit(const Ray<T>& ray, Mode mode) const noexcept {
-        return closest_hit(PreparedRay<T>(ray), mode);
-    }
 
-    // Some primitive hit (its own Hit in the mode), the first one met; see the header
-    // comment for what each mode promises.
-    template <class Mode>
-        requires is_mode_v<Mode>
-    [[nodiscard]] ClosestHit<T> any_hit(const PreparedRay<T>& ray, Mode mode) const noexcept {
+    template <class Mode> ClosestHit<T> any_in_env(const PreparedRay<T>& ray, Mode mode) const noexcept {
         ClosestHit<T> best;
         if (!ray.valid()) return invalid_answer();
         T limit = ray.ray().t_max;
-        for_each_candidate(ray, mode, limit, [&](std::size_t i) noexcept {
+        auto consider = [&](std::size_t i) noexcept {
             const Hit<T> h = detail::bvh_intersect(ray, prims_[i], mode);
             if (h.verdict != Verdict::hit) return true;
             best.verdict = Verdict::hit;
             best.index = std::int64_t(i);
             best.hit = h;
             return false;
-        });
+        };
+        candidates<detail::fp_env_guarded<Mode>>(ray, mode, limit, consider);
         return best;
     }
-    template <class Mode>
-        requires is_mode_v<Mode>
-    [[nodiscard]] ClosestHit<T> any_hit(const Ray<T>& ray, Mode mode) const noexcept {
-        return any_hit(PreparedRay<T>(ray), mode);
-    }
-
-    // f(std::size_t index) -> bool for every primitive the ray may meet on [t_min,
-    // t_limit] (the primitives beside the tree first, then the tree's, near leaves
-    // first); f may lower t_limit and returns false to stop. Certified and conservative:
-    // never skips a primitive the ray meets on [t_min, t_limit] exactly, for the
-    // t_limit of the moment.
-    template <class Mode, class F>
-        requires is_mode_v<Mode>
-    void for_each_candidate(const PreparedRay<T>& ray, Mode mode, T& t_limit, F&& f) const {
-        if (!ray.valid()) return;
-        for (const std::size_t i : outside_)
-            if (!f(i)) return;
-        if (nodes_.empty()) return;
-        traverse(ray, mode, t_limit, f);
-    }
-
-private:
-    using Node = detail::BvhNode<T, W>;
 
     static ClosestHit<T> invalid_answer() noexcept {
         ClosestHit<T> r;
@@ -319,23 +410,37 @@ private:
         return r;
     }
 
-    // The node packet in the mode: fast its own; conservative and certified the
-    // conservative packet (mask ⊇ the exact one, t_enter a lower bound of the exact
-    // entry).
-    template <class Mode> static PacketHit<T, W> node_test(const PreparedRay<T>& r, const Node& n, Mode) noexcept {
-        if constexpr (std::is_same_v<Mode, fast_t>)
-            return rayproof::intersect(r, n.box, fast);
-        else
-            return rayproof::intersect(r, n.box, conservative);
+    // The node test in the mode: the lanes' mask and, per hit lane, its t_enter (a lower
+    // bound of the lane's exact entry in the conservative and certified modes). Fast: the
+    // fast packet. Conservative and certified: the conservative packet's own filter
+    // (detail::bvh_node_conservative), which needs the default environment: Known says
+    // the caller established it, else it is checked per node.
+    template <bool Known, class Mode>
+    static RAYPROOF_ALWAYS_INLINE std::uint32_t node_test(const PreparedRay<T>& r, const Node& n, Mode,
+                                                          double (&t)[std::size_t(W)]) noexcept {
+        if constexpr (std::is_same_v<Mode, fast_t>) {
+            const PacketHit<T, W> h = rayproof::intersect(r, n.box, fast);
+            for (int i = 0; i < W; ++i) t[i] = double(h.t_enter[i]);
+            return h.mask;
+        } else {
+            if (Known || detail::fp_env_is_default()) [[likely]]
+                return detail::bvh_node_conservative<detail::simd::native>(r, n.box, t);
+            const PacketHit<T, W> h = rayproof::intersect(r, n.box, conservative);
+            for (int i = 0; i < W; ++i) t[i] = double(h.t_enter[i]);
+            return h.mask;
+        }
     }
 
     struct Entry {
         std::uint32_t first, count;  // as a node lane: count 0 an inner node
-        T t;                         // the lane's t_enter (conservative, certified: a lower bound)
+        double t;                    // the lane's t_enter (conservative, certified: a lower bound)
     };
     static constexpr std::size_t stack_capacity = std::size_t(detail::bvh_max_depth + 1) * std::size_t(W);
 
-    template <class Mode, class F> void traverse(const PreparedRay<T>& ray, Mode mode, T& t_limit, F& f) const {
+    // Known: the default floating-point environment is established (closest_hit,
+    // any_hit), so the node filter runs without checking it.
+    template <bool Known, class Mode, class F>
+    void traverse(const PreparedRay<T>& ray, Mode mode, T& t_limit, F& f) const {
         const T t_min = ray.ray().t_min, t_max = ray.ray().t_max;
         // The node ray on [t_min, min(t_limit, t_max)], selected by the bits; invalid
         // (t_limit below t_min, or NaN) means nothing more can be met.
@@ -346,11 +451,11 @@ private:
         };
         PreparedRay<T> nr = narrowed(limit);
         if (!nr.valid()) return;
-        T cut = nr.ray().t_max;
+        double cut = double(nr.ray().t_max);
 
         std::array<Entry, stack_capacity> stack;
         std::size_t sp = 0;
-        stack[sp++] = Entry{0, 0, -detail::inf<T>};
+        stack[sp++] = Entry{0, 0, -detail::inf<double>};
         while (sp > 0) {
             const Entry e = stack[--sp];
             if (e.t > cut) continue;  // the lane's entry lies beyond the range
@@ -361,19 +466,20 @@ private:
                         limit = t_limit;
                         nr = narrowed(limit);
                         if (!nr.valid()) return;
-                        cut = nr.ray().t_max;
+                        cut = double(nr.ray().t_max);
                     }
                 }
                 continue;
             }
             const Node& n = nodes_[e.first];
-            const PacketHit<T, W> ph = node_test(nr, n, mode);
+            double t[std::size_t(W)];
+            const std::uint32_t mask = node_test<Known>(nr, n, mode, t);
             // Hit lanes sorted by t_enter, descending, then pushed: the nearest on top.
             Entry hits[std::size_t(W)];
             int m = 0;
-            for (std::uint32_t u = ph.mask; u != 0; u &= u - 1) {
+            for (std::uint32_t u = mask; u != 0; u &= u - 1) {
                 const int i = std::countr_zero(u);
-                Entry c{n.first[i], n.count[i], ph.t_enter[i]};
+                Entry c{n.first[i], n.count[i], t[i]};
                 int j = m++;
                 for (; j > 0 && hits[j - 1].t < c.t; --j) hits[j] = hits[j - 1];
                 hits[j] = c;

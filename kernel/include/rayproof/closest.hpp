@@ -14,6 +14,11 @@
 //            exactly, since no primitive's own answer misses then).
 //   any_hit:  hit iff some primitive is hit in the mode (certified: exactly); index = the
 //            lowest primitive hit, its own Hit in the mode.
+// Algorithm: one pass in index order keeping the best hit so far; a later primitive
+//            replaces it only when strictly closer (so ties stay with the lower index):
+//            certified by compare_entry (the faithful floats' filter, else the exact entries
+//            compared with Shewchuk expansions or BigDyadic8), the other modes by their
+//            computed t_enter. any_hit stops at the first primitive hit.
 // Degenerate cases: an invalid primitive is never hit (it is skipped); the ray alone
 //            decides Verdict::invalid (index -1). No primitives: a miss.
 // Error bound: none of its own; every t is the primitive's own answer in the mode.
@@ -42,7 +47,7 @@ template <class T> struct ClosestHit {
 
 // The primitives' span, not a deduced parameter: T comes from the ray, so a
 // std::vector<Primitive<T>> or an array converts to it.
-template <class T> using Prims = std::span<const Primitive<std::type_identity_t<T>>>;
+template <class T> using PrimitiveSpan = std::span<const Primitive<std::type_identity_t<T>>>;
 
 namespace detail {
 
@@ -97,7 +102,7 @@ ClosestHit<T> any_hit_brute(const PreparedRay<T>& ray, std::span<const Primitive
 // answer in the default floating-point environment whatever the caller's (detail/fp_env.hpp).
 template <class T, class Mode>
     requires(is_scalar_v<T> && is_mode_v<Mode>)
-[[nodiscard]] ClosestHit<T> closest_hit(const PreparedRay<T>& ray, Prims<T> prims, Mode mode) {
+[[nodiscard]] ClosestHit<T> closest_hit(const PreparedRay<T>& ray, PrimitiveSpan<T> prims, Mode mode) {
     static_cast<void>(mode);
     if constexpr (detail::fp_env_guarded<Mode>)
         return detail::in_default_fp_env(
@@ -109,7 +114,7 @@ template <class T, class Mode>
 
 template <class T, class Mode>
     requires(is_scalar_v<T> && is_mode_v<Mode>)
-[[nodiscard]] ClosestHit<T> any_hit(const PreparedRay<T>& ray, Prims<T> prims, Mode mode) {
+[[nodiscard]] ClosestHit<T> any_hit(const PreparedRay<T>& ray, PrimitiveSpan<T> prims, Mode mode) {
     static_cast<void>(mode);
     if constexpr (detail::fp_env_guarded<Mode>)
         return detail::in_default_fp_env(
@@ -121,13 +126,13 @@ template <class T, class Mode>
 
 template <class T, class Mode>
     requires(is_scalar_v<T> && is_mode_v<Mode>)
-[[nodiscard]] ClosestHit<T> closest_hit(const Ray<T>& ray, Prims<T> prims, Mode mode) {
+[[nodiscard]] ClosestHit<T> closest_hit(const Ray<T>& ray, PrimitiveSpan<T> prims, Mode mode) {
     return closest_hit(PreparedRay<T>(ray), prims, mode);
 }
 
 template <class T, class Mode>
     requires(is_scalar_v<T> && is_mode_v<Mode>)
-[[nodiscard]] ClosestHit<T> any_hit(const Ray<T>& ray, Prims<T> prims, Mode mode) {
+[[nodiscard]] ClosestHit<T> any_hit(const Ray<T>& ray, PrimitiveSpan<T> prims, Mode mode) {
     return any_hit(PreparedRay<T>(ray), prims, mode);
 }
 

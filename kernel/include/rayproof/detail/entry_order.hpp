@@ -212,25 +212,34 @@ template <class T> bool entry_expansion_safe(const Primitive<T>& p, const Hit<T>
         p);
 }
 
-// sign(e_a − e_b) for two certified hits ha, hb of the same ray against a and b.
+// The exact stage of compare_entry: sign(e_a − e_b) decided exactly, for any pair of
+// certified hits of the ray (the filter is not consulted). nullopt only past BigDyadic8's
+// capacity, which the degree-8 polynomials of finite inputs never reach (tested at mixed
+// extreme exponents).
 template <class T>
-int compare_entry(const PreparedRay<T>& ray, const Primitive<T>& a, const Hit<T>& ha, const Primitive<T>& b,
-                  const Hit<T>& hb) {
-    if (const int s = compare_entry_filter(ha.t_enter, hb.t_enter)) return s;
+std::optional<int> compare_entry_exact(const PreparedRay<T>& ray, const Primitive<T>& a, const Hit<T>& ha,
+                                       const Primitive<T>& b, const Hit<T>& hb) {
     const Ray<T>& r = ray.ray();
     const bool safe = expansion_safe(r.origin) && expansion_safe(r.direction) &&
                       (!std::isfinite(r.t_min) || expansion_safe(r.t_min)) && entry_expansion_safe(a, ha) &&
                       entry_expansion_safe(b, hb);
-    const std::optional<int> s = with_exact<kDefaultExpansionCap, BigDyadic8>(safe, [&](auto tag) -> std::optional<int> {
+    return with_exact<kDefaultExpansionCap, BigDyadic8>(safe, [&](auto tag) -> std::optional<int> {
         using E = typename decltype(tag)::type;
         const std::optional<ExactEntry<E>> x = exact_entry<E>(r, a, ha), y = exact_entry<E>(r, b, hb);
         if (!x || !y) return std::nullopt;
         return compare_exact_entries(*x, *y, r.t_min);
     });
-    // nullopt only past BigDyadic8's capacity, which degree-8 polynomials of finite
-    // inputs never reach; the floats' order is then the best answer left.
-    if (!s) return ha.t_enter < hb.t_enter ? -1 : hb.t_enter < ha.t_enter ? +1 : 0;
-    return *s;
+}
+
+// sign(e_a − e_b) for two certified hits ha, hb of the same ray against a and b: the
+// float filter, else the exact stage.
+template <class T>
+int compare_entry(const PreparedRay<T>& ray, const Primitive<T>& a, const Hit<T>& ha, const Primitive<T>& b,
+                  const Hit<T>& hb) {
+    if (const int s = compare_entry_filter(ha.t_enter, hb.t_enter)) return s;
+    if (const std::optional<int> s = compare_entry_exact(ray, a, ha, b, hb)) return *s;
+    // Unreachable within BigDyadic8's capacity; the floats' order is the best answer left.
+    return ha.t_enter < hb.t_enter ? -1 : hb.t_enter < ha.t_enter ? +1 : 0;
 }
 
 }  // namespace rayproof::detail

@@ -7,6 +7,11 @@
 // Answer:    std::nullopt when no finite box is given: planes (unbounded), invalid
 //            primitives, and any primitive whose box would overflow to infinity. A BVH
 //            keeps those beside its tree and tests them on every ray, still correct.
+// Shapes:    Aabb: itself. Sphere: center ± radius, each sum stepped outward once. Obb:
+//            center ± Σ_j |minor_kj(A)|·h_j / |det A| (exact numerator and determinant,
+//            the quotient enclosed with a derived margin). ConvexPolyhedron of at most
+//            kMaxBoxedPlanes planes: boundedness decided exactly, then the box of every
+//            three-plane vertex that is not provably outside. Plane: nullopt.
 // Rounding:  every computed bound is rounded outward by the derivation at its code; the
 //            exact bound lies inside the returned one.
 #pragma once
@@ -126,6 +131,39 @@ template <class T> std::optional<Aabb<T>> box_of(const Obb<T>& b) {
     return box;
 }
 
+// An enclosure [lo, hi] of the determinant of m (rows of doubles), or nullopt outside the
+// filter's range. The evaluation and its bound are det3_sign's filter (detail/exact.hpp,
+// derivation there): with every nonzero entry in [2^-300, 2^300], det evaluated as
+// a(ei − fh) − b(di − fg) + c(dh − eg) is within fl(gamma(7)·P) of the exact one, P the
+// permanent evaluated the same way on |entries|. The ends det ∓ bound are each rounded
+// once, so one step outward encloses the exact ends.
+inline std::optional<std::pair<double, double>> det3_enclosure(const double (&m)[3][3]) {
+    for (const auto& row : m)
+        for (const double x : row)
+            if (!(x == 0 || (std::abs(x) >= 0x1p-300 && std::abs(x) <= 0x1p300))) return std::nullopt;
+    const double a = m[0][0], b = m[0][1], c = m[0][2], d = m[1][0], e = m[1][1], f = m[1][2], g = m[2][0], h = m[2][1],
+                 i = m[2][2];
+    const double det = a * (e * i - f * h) - b * (d * i - f * g) + c * (d * h - e * g);
+    const double perm = std::abs(a) * (std::abs(e) * std::abs(i) + std::abs(f) * std::abs(h)) +
+                        std::abs(b) * (std::abs(d) * std::abs(i) + std::abs(f) * std::abs(g)) +
+                        std::abs(c) * (std::abs(d) * std::abs(h) + std::abs(e) * std::abs(g));
+    const double bound = gamma<double>(7) * perm;
+    return std::pair<double, double>{step_down(det - bound), step_up(det + bound)};
+}
+
+// An enclosure of x/y for x in [xl, xh] and y in [yl, yh] not holding 0: the quotient is
+// monotone in each, so its extremes are at the corners; each corner quotient is rounded
+// once, so one step outward encloses it. Non-finite: nullopt.
+inline std::optional<std::pair<double, double>> divide_enclosures(const std::pair<double, double>& x,
+                                                                  const std::pair<double, double>& y) {
+    if (!(y.first > 0 || y.second < 0)) return std::nullopt;
+    const double q[4] = {x.first / y.first, x.first / y.second, x.second / y.first, x.second / y.second};
+    const double lo = step_down(std::min(std::min(q[0], q[1]), std::min(q[2], q[3])));
+    const double hi = step_up(std::max(std::max(q[0], q[1]), std::max(q[2], q[3])));
+    if (!std::isfinite(lo) || !std::isfinite(hi)) return std::nullopt;
+    return std::pair<double, double>{lo, hi};
+}
+
 // A convex polyhedron { p : n_k·p <= o_k }. Boxed when it is bounded and has at most
 // kMaxBoxedPlanes planes (the work below grows as the fourth power of the count; a larger
 // one is kept beside the tree). Nonempty and bounded, it is the convex hull of its
@@ -138,10 +176,13 @@ template <class T> std::optional<Aabb<T>> box_of(const Obb<T>& b) {
 //   n_i × n_j != 0 and a sign s has s·det(n_k, n_i, n_j) <= 0 for every k (det3_sign,
 //   exact). Either gives nullopt.
 //   Vertices: for each triple with det(N_ijk) = D != 0, Cramer's rule gives the point
-//   x_c = D_c/D (D_c: column c replaced by the offsets, degree 3, exact); it is dropped
-//   when provably outside some plane l: sign(n_l·(D_0, D_1, D_2) − o_l·D)·sign(D) > 0
-//   (degree 4, exact). Each kept coordinate is enclosed by enclose_quotient. No point
-//   kept: the polyhedron is empty (nullopt).
+//   x_c = D_c/D (D_c: column c replaced by the offsets, degree 3, exact), each coordinate
+//   enclosed by enclose_quotient. It is dropped when it is outside some plane l: first
+//   by a float filter (Cramer's rule on determinant enclosures, det3_enclosure, then
+//   outside_filter on the point's enclosure), then the same filter on the exact point's
+//   enclosure, then exactly,
+//   sign(n_l·(D_0, D_1, D_2) − o_l·D)·sign(D) > 0 (degree 4), so the exact test runs
+//   about once per true vertex. No point kept: the polyhedron is empty (nullopt).
 inline constexpr std::size_t kMaxBoxedPlanes = 32;
 
 template <class T> std::optional<Aabb<T>> box_of(const ConvexPolyhedron<T>& poly) {
@@ -183,43 +224,105 @@ template <class T> std::optional<Aabb<T>> box_of(const ConvexPolyhedron<T>& poly
             if (all_le || all_ge) return std::nullopt;  // a recession direction ±(n_i × n_j)
         }
     // Vertices.
+    using Approx3 = std::array<std::pair<Approx, Approx>, 3>;  // (D_c, D) per coordinate
+    auto cramer = [&](auto tag, const std::size_t* idx) {        // D_0, D_1, D_2, D exactly
+        using E = typename decltype(tag)::type;
+        auto det_with = [&](int c) {  // column c replaced by the offsets (c = -1: none)
+            auto at = [&](int r, int col) { return col == c ? E(P[idx[r]].offset) : E(P[idx[r]].normal[col]); };
+            return at(0, 0) * (at(1, 1) * at(2, 2) - at(1, 2) * at(2, 1)) -
+                   at(0, 1) * (at(1, 0) * at(2, 2) - at(1, 2) * at(2, 0)) +
+                   at(0, 2) * (at(1, 0) * at(2, 1) - at(1, 1) * at(2, 0));
+        };
+        return std::array<E, 4>{det_with(0), det_with(1), det_with(2), det_with(-1)};
+    };
+    // Exactly outside some plane l: sign(n_l·(D_0, D_1, D_2) − o_l·D)·sign(D) > 0.
+    auto outside_exactly = [&](const std::size_t* idx) {
+        return with_exact(safe, [&](auto tag) -> std::optional<bool> {
+            using E = typename decltype(tag)::type;
+            const std::array<E, 4> X = cramer(tag, idx);
+            if (any_overflowed(X[0], X[1], X[2], X[3])) return std::nullopt;
+            for (const Plane<T>& q : P) {
+                const E s = E(q.normal[0]) * X[0] + E(q.normal[1]) * X[1] + E(q.normal[2]) * X[2] - E(q.offset) * X[3];
+                if (s.overflowed()) return std::nullopt;
+                if (s.sign() * X[3].sign() > 0) return true;
+            }
+            return false;
+        });
+    };
+    // Outside some plane by a float filter on the vertex's enclosure [vlo, vhi]: the least
+    // n·v over the enclosure is Σ_j min(n_j·vlo_j, n_j·vhi_j); evaluated with four
+    // roundings as S~ = fl(Σ p_j − o) it is within gamma(4)·(Σ|p_j| + |o|) plus 3·2^-1075
+    // (products that underflow) of the exact least value minus o; the bound
+    // fl(gamma(5)·fl(Σ|p_j| + |o|)) + 2^-1070 covers that with its own roundings (gamma(5)
+    // over gamma(4) leaves more than the three roundings of the bound's sum and product).
+    // S~ above the bound: every point of the enclosure is outside. Non-finite: undecided.
+    auto outside_filter = [&](const double* vlo, const double* vhi) {
+        constexpr double g5 = gamma<double>(5);
+        for (const Plane<T>& q : P) {
+            double sum = 0, mag = 0;
+            for (int j = 0; j < 3; ++j) {
+                const double n = double(q.normal[j]);
+                const double p = std::min(n * vlo[j], n * vhi[j]);
+                sum += p;
+                mag += std::abs(p);
+            }
+            const double o = double(q.offset);
+            const double S = sum - o, bound = g5 * (mag + std::abs(o)) + 0x1p-1070;
+            if (std::isfinite(S) && std::isfinite(bound) && S > bound) return true;
+        }
+        return false;
+    };
     double lo[3] = {inf<double>, inf<double>, inf<double>}, hi[3] = {-inf<double>, -inf<double>, -inf<double>};
     bool any = false;
     for (std::size_t i = 0; i < m; ++i)
         for (std::size_t j = i + 1; j < m; ++j)
             for (std::size_t k = j + 1; k < m; ++k) {
                 const std::size_t idx[3] = {i, j, k};
-                const auto point = with_exact(safe, [&](auto tag) -> std::optional<std::optional<std::array<std::pair<Approx, Approx>, 3>>> {
-                    using E = typename decltype(tag)::type;
-                    // D and D_c by cofactor expansion along the replaced column.
-                    auto det_with = [&](int c) {  // column c replaced by the offsets (c = -1: none)
-                        auto at = [&](int r, int col) { return col == c ? E(P[idx[r]].offset) : E(P[idx[r]].normal[col]); };
-                        return at(0, 0) * (at(1, 1) * at(2, 2) - at(1, 2) * at(2, 1)) -
-                               at(0, 1) * (at(1, 0) * at(2, 2) - at(1, 2) * at(2, 0)) +
-                               at(0, 2) * (at(1, 0) * at(2, 1) - at(1, 1) * at(2, 0));
-                    };
-                    const E D = det_with(-1);
-                    if (D.overflowed()) return std::nullopt;
-                    if (D.sign() == 0) return std::optional<std::array<std::pair<Approx, Approx>, 3>>{};
-                    const E X[3] = {det_with(0), det_with(1), det_with(2)};
-                    if (any_overflowed(X[0], X[1], X[2])) return std::nullopt;
-                    for (std::size_t l = 0; l < m; ++l) {
-                        const Plane<T>& q = P[l];
-                        const E s = E(q.normal[0]) * X[0] + E(q.normal[1]) * X[1] + E(q.normal[2]) * X[2] - E(q.offset) * D;
-                        if (s.overflowed()) return std::nullopt;
-                        if (s.sign() * D.sign() > 0) return std::optional<std::array<std::pair<Approx, Approx>, 3>>{};
+                {  // The float filter first: Cramer's rule on determinant enclosures.
+                    double M[3][3];
+                    for (int r = 0; r < 3; ++r)
+                        for (int c = 0; c < 3; ++c) M[r][c] = double(P[idx[r]].normal[c]);
+                    const auto D = det3_enclosure(M);
+                    double vlo[3], vhi[3];
+                    bool enclosed = D.has_value();
+                    for (int c = 0; c < 3 && enclosed; ++c) {
+                        double Mc[3][3];
+                        for (int r = 0; r < 3; ++r)
+                            for (int cc = 0; cc < 3; ++cc) Mc[r][cc] = cc == c ? double(P[idx[r]].offset) : M[r][cc];
+                        const auto X = det3_enclosure(Mc);
+                        const auto v = X ? divide_enclosures(*X, *D) : std::nullopt;
+                        enclosed = v.has_value();
+                        if (enclosed) vlo[c] = v->first, vhi[c] = v->second;
                     }
-                    std::array<std::pair<Approx, Approx>, 3> out;
-                    for (int c = 0; c < 3; ++c) out[std::size_t(c)] = {X[c].approx(), D.approx()};
-                    return std::optional<std::array<std::pair<Approx, Approx>, 3>>{out};
+                    if (enclosed && outside_filter(vlo, vhi)) continue;
+                }
+                const auto point = with_exact(safe, [&](auto tag) -> std::optional<std::optional<Approx3>> {
+                    const auto X = cramer(tag, idx);
+                    if (any_overflowed(X[0], X[1], X[2], X[3])) return std::nullopt;
+                    if (X[3].sign() == 0) return std::optional<Approx3>{};  // dependent normals: no point
+                    Approx3 out;
+                    for (int c = 0; c < 3; ++c) out[std::size_t(c)] = {X[c].approx(), X[3].approx()};
+                    return std::optional<Approx3>{out};
                 });
                 if (!point) return std::nullopt;  // past the exact types' capacity: not reached
-                if (!*point) continue;            // dependent planes, or provably outside
-                for (int c = 0; c < 3; ++c) {
+                if (!*point) continue;
+                double vlo[3], vhi[3];
+                bool finite = true;
+                for (int c = 0; c < 3 && finite; ++c) {
                     const auto e = enclose_quotient((**point)[std::size_t(c)].first, (**point)[std::size_t(c)].second);
-                    if (!e) return std::nullopt;
-                    lo[c] = std::min(lo[c], e->first);
-                    hi[c] = std::max(hi[c], e->second);
+                    finite = e.has_value();
+                    if (finite) vlo[c] = e->first, vhi[c] = e->second;
+                }
+                if (finite && outside_filter(vlo, vhi)) continue;
+                // Not dropped by the filter (a vertex, or nearly one): decided exactly. A point
+                // outside is dropped; a vertex beyond the double range leaves no finite box.
+                const std::optional<bool> out = outside_exactly(idx);
+                if (!out) return std::nullopt;  // past the exact types' capacity: not reached
+                if (*out) continue;
+                if (!finite) return std::nullopt;
+                for (int c = 0; c < 3; ++c) {
+                    lo[c] = std::min(lo[c], vlo[c]);
+                    hi[c] = std::max(hi[c], vhi[c]);
                 }
                 any = true;
             }

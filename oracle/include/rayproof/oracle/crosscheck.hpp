@@ -36,7 +36,8 @@
 //           6 when no plane qualifies (never, for a consistent answer).
 //
 // compare(): where a float lies relative to an ExactValue, decided with CGAL's numbers
-// (Gmpq, Sqrt_extension::compare) rather than ExactValue::compare.
+// (Gmpq, Sqrt_extension::compare) rather than ExactValue::compare; and the order of two
+// ExactValues (the exact entries of two shapes, for the closest-hit order).
 //
 // verdict() and interval() answer std::nullopt when the input is invalid (the contract's
 // validity rules are the oracle's business) or the construction does not apply (an Obb
@@ -73,5 +74,8 @@ template <class T> Exact<T> answer(const Ray<T>& ray, const ConvexPolyhedron<T>&
 // Where f lies relative to v (exact; -0 and +0 are both 0; unordered for NaN or no value).
 Order compare(float f, const ExactValue& v);
 Order compare(double f, const ExactValue& v);
+// Where a lies relative to b (exact; ±inf ordered as usual; unordered when either has
+// no value), by CGAL's Root_of_2 comparison across square-root extensions.
+Order compare(const ExactValue& a, const ExactValue& b);
 
 }  // namespace rayproof::oracle::crosscheck
