@@ -47,6 +47,7 @@ GMP_LIBS="$(static_lib mpfr) $(static_lib gmp)"
 PNG_LIBS="$(static_lib png) $(static_lib z)"
 
 FLAGS="$CXXFLAGS -std=c++20 -I$PROJECT/kernel/include -I$PROJECT/oracle/include -I$PROJECT/render/include \
+  -I$PROJECT/tests/generators/include \
   -I$PROJECT/fuzz -isystem $EIGEN_INC $CGAL_INC"
 WORK="${WORK:-/tmp}/rayproof-fuzz-objects"
 rm -rf "$WORK"

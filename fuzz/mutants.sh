@@ -6,7 +6,7 @@
 #
 #   mutant: <name>
 #   target: <fuzz target of fuzz/targets.txt>
-#   shapes: <aabb|obb|plane|sphere|polyhedron ...>
+#   shapes: <aabb|obb|plane|sphere|polyhedron|bvh ...>   (bvh: the BVH and its closest hit)
 #   breaks: <one line>
 #   (blank line, then the diff, as `git diff` writes it)
 #
@@ -15,7 +15,8 @@
 # each patch there with `git apply` (never to the checkout; a patch that no longer
 # applies ends the script with status 2) and judges the mutant two ways:
 #   suites  the CTest unit, oracle and property suites of its shapes, at their default
-#           size (the RAYPROOF_RC_DEFAULT of tests/props/CMakeLists.txt), built with g++
+#           size (the RAYPROOF_RC_DEFAULT of tests/props/CMakeLists.txt, for bvh_props its
+#           RAYPROOF_RC_BVH_DEFAULT), built with g++
 #           -O2 in build/mutants/src/build/suites: bound_witness_test (the bounds'
 #           witnesses, every shape's), then for each shape, ray_<shape>_test,
 #           ray_<shape>_oracle_test, certified_exact_stage_test (that shape's tests) and
@@ -46,7 +47,7 @@ while [ $# -gt 0 ]; do
     --only) only=",$2,"; shift 2 ;;
     --no-suites) suites=0; shift ;;
     --no-fuzz) fuzz=0; shift ;;
-    -h|--help) sed -n '2,39p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,40p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "unknown argument: $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -80,7 +81,7 @@ if [ $check -eq 1 ]; then
     esac
     [ -n "$shapes" ] || { echo "mutant $name: no shapes" >&2; bad=1; }
     for s in $shapes; do
-      case "$s" in aabb|obb|plane|sphere|polyhedron) ;; *) echo "mutant $name: unknown shape '$s'" >&2; bad=1 ;; esac
+      case "$s" in aabb|obb|plane|sphere|polyhedron|bvh) ;; *) echo "mutant $name: unknown shape '$s'" >&2; bad=1 ;; esac
     done
     if ! (cd "$ROOT" && git apply --check "$p") 2>"${TMPDIR:-/tmp}/mutants-check.$$"; then
       echo "mutant $name: the patch does not apply: $(head -3 "${TMPDIR:-/tmp}/mutants-check.$$")" >&2; bad=1
@@ -143,12 +144,21 @@ if [ $fuzz -eq 1 ] && [ ! -f "$fuzz_bld/build.ninja" ]; then
     -DRAYPROOF_PYTHON=OFF -DBUILD_TESTING=OFF -DRAYPROOF_WERROR=OFF \
     >"$work/logs/fuzz.configure.log" 2>&1 || { cat "$work/logs/fuzz.configure.log"; exit 1; }
 fi
-rc_default=""
-[ $suites -eq 0 ] || rc_default=$(sed -n 's/^RAYPROOF_RC_DEFAULT:STRING=//p' "$suites_bld/CMakeCache.txt")
+rc_default="" rc_bvh_default=""
+if [ $suites -eq 1 ]; then
+  rc_default=$(sed -n 's/^RAYPROOF_RC_DEFAULT:STRING=//p' "$suites_bld/CMakeCache.txt")
+  rc_bvh_default=$(sed -n 's/^RAYPROOF_RC_BVH_DEFAULT:STRING=//p' "$suites_bld/CMakeCache.txt")
+fi
 
-# The suites of a shape: "binary gtest-filter" per line, run in this order.
+# The suites of a shape: "binary gtest-filter" per line, run in this order. The BVH
+# ("shape" bvh): bvh_test, then bvh_props.
 suite_lines() {
   local s="$1" S
+  if [ "$s" = bvh ]; then
+    echo "tests/unit/bvh_test *"
+    echo "tests/props/bvh_props *"
+    return 0
+  fi
   S="$(tr '[:lower:]' '[:upper:]' <<<"${s:0:1}")${s:1}"
   [ "$s" = aabb ] && S=Aabb
   [ "$s" = obb ] && S=Obb
@@ -182,7 +192,7 @@ trap cleanup EXIT
 # the mutant's matrix row to $work/run/NAME/row and its report to $work/run/NAME/report.
 judge() {
   local name="$1" target="$2" run="$work/run/$1" fuzz_pid="" suite_result="not run" suite_cell="not run"
-  local fuzz_result="not run" fuzz_cell="not run" t0 fuzz_t0 rc took execs rate cov ft b bin filter out failed
+  local fuzz_result="not run" fuzz_cell="not run" t0 fuzz_t0 rc rc_params took execs rate cov ft b bin filter out failed
   if [ -x "$run/fuzz/$target" ]; then
     mkdir -p "$run/fuzz/corpus" "$run/fuzz/artifacts"
     fuzz_t0=$(date +%s.%N)
@@ -197,7 +207,9 @@ judge() {
     t0=$(date +%s)
     while IFS='|' read -r bin filter; do
       out="$run/$bin.$(echo "$filter" | tr -c 'A-Za-z0-9\n' _).log"
-      if ! (cd "$run" && env -u RC_PARAMS RAYPROOF_RC_DEFAULT="$rc_default" "./$bin" \
+      rc_params="$rc_default"
+      [ "$bin" != bvh_props ] || rc_params="$rc_bvh_default"
+      if ! (cd "$run" && env -u RC_PARAMS RAYPROOF_RC_DEFAULT="$rc_params" "./$bin" \
              --gtest_filter="$filter" --gtest_fail_fast --gtest_brief=1 >"$out" 2>&1); then
         failed=$(sed -n 's/^\[  FAILED  \] \([^ ,]*\).*/\1/p' "$out" | head -1)
         suite_result="killed by $bin ${failed:-(crashed: see $out)}"

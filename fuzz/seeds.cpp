@@ -1,5 +1,7 @@
-// seeds.cpp — writes the seed corpora of the ray/shape fuzz targets and checks the byte
-// format (fuzz_decode.hpp) round trip.
+// seeds.cpp — writes the seed corpora of the ray/shape fuzz targets and of bvh_fuzz and
+// checks the byte formats' round trip (fuzz_decode.hpp, bvh_decode.hpp). bvh_fuzz takes
+// the scene generators' scenes (rayproof/generators/scene_gen.hpp) that fit its format:
+// the first N of the first 4N seeds of each scene generator.
 //
 //   rayproof_fuzz_seeds write DIR [N]   DIR/<target>/<float|double>-<generator>-<k>: the
 //                                       cases of every shared property generator
@@ -7,9 +9,11 @@
 //   rayproof_fuzz_seeds check [N]       encode → decode is the identity, bit for bit, on
 //                                       N cases of every generator, float and double
 //                                       (default 200); exit 1 otherwise
+#include "bvh_decode.hpp"
 #include "fuzz_decode.hpp"
 
 #include <rayproof/generators.hpp>
+#include <rayproof/generators/scene_gen.hpp>
 #include <rayproof/io.hpp>
 
 #include <rayproof/cli.hpp>
@@ -18,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 #include <string>
 
 namespace {
@@ -93,6 +98,48 @@ template <class T> int run_polyhedron(const std::string& target, const fs::path*
         [](const auto& c, const std::vector<std::uint8_t>& bytes) { return poly_round_trips(c, bytes); });
 }
 
+// The BVH target's cases (bvh_decode.hpp): the scene generators' scenes that fit the
+// format (at most 64 primitives, polyhedra of at most 16 planes), with a leaf size and a
+// bin count drawn from k; the primitives compared bit for bit after decoding.
+template <class T> std::string scene_bits(std::span<const Primitive<T>> prims, const Ray<T>& ray) {
+    std::ostringstream os;
+    os << ray;
+    for (const Primitive<T>& p : prims) gen::print_primitive(os << ' ' << p.index() << ':', p);  // hexfloat: exact
+    return os.str();
+}
+template <class T> int run_bvh(const std::string& target, const fs::path* dir, int n) {
+    int failures = 0;
+    for (const auto& g : gen::scene_generators<T>()) {
+        int written = 0;
+        for (int k = 1; k <= 4 * n && written < n; ++k) {
+            gen::Rng rng{std::uint64_t(k)};
+            const gen::Scene<T> s = g.make(rng);
+            if (!fuzz::scene_fits<T>(s.view())) continue;
+            const int leaf = 1 + k % 8, bins = 2 + (k * 7) % 32;
+            const std::vector<std::uint8_t> bytes = fuzz::encode_scene<T>(s.ray, s.view(), leaf, bins);
+            const auto in = fuzz::decode_scene<T>(bytes.data(), bytes.size());
+            ++written;
+            if (scene_bits<T>(in.view(), in.ray) != scene_bits<T>(s.view(), s.ray) || in.leaf_size != leaf ||
+                in.bins != bins || fuzz::is_double(bytes.data(), bytes.size()) != std::is_same_v<T, double>) {
+                std::cerr << target << ": encode/decode round trip fails on " << s << '\n';
+                ++failures;
+                continue;
+            }
+            if (!dir) continue;
+            const fs::path d = *dir / target;
+            fs::create_directories(d);
+            const fs::path file = d / (std::string(gen::scalar_name<T>()) + "-" + std::string(g.name) + "-" + std::to_string(k));
+            std::ofstream out(file, std::ios::binary);
+            out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+            if (!out) {
+                std::cerr << "cannot write " << file << '\n';
+                ++failures;
+            }
+        }
+    }
+    return failures;
+}
+
 template <template <class> class Shape> int both(const std::string& target, const fs::path* dir, int n) {
     return run<float, Shape<float>>(target, dir, n) + run<double, Shape<double>>(target, dir, n);
 }
@@ -116,7 +163,8 @@ int main(int argc, char** argv) {
                   both<Plane>("ray_plane_fuzz", out, n) + both<Sphere>("ray_sphere_fuzz", out, n) +
                   run_polyhedron<float>("ray_polyhedron_fuzz", out, n) + run_polyhedron<double>("ray_polyhedron_fuzz", out, n) +
                   // The box packets decode the Aabb format: the same seeds (written only).
-                  (out ? both<Aabb>("ray_aabb_packet_fuzz", out, n) : 0);
+                  (out ? both<Aabb>("ray_aabb_packet_fuzz", out, n) : 0) +
+                  run_bvh<float>("bvh_fuzz", out, n) + run_bvh<double>("bvh_fuzz", out, n);
     if (out)
         std::cout << "seed corpora written to " << d.string() << (f ? " with failures" : "") << '\n';
     else

@@ -251,6 +251,43 @@ bool operator==(const ExactValue& a, const ExactValue& b) {
     return false;
 }
 
+namespace {
+// sign(c + e·sqrt(r)) for rationals c, e and r >= 0.
+int sign_plus_root(const Q& c, const Q& e, const Q& r) {
+    const int sc = int(CGAL::sign(c));
+    const int se = CGAL::sign(r) == CGAL::ZERO ? 0 : int(CGAL::sign(e));
+    if (se == 0) return sc;
+    if (sc == 0 || sc == se) return se;
+    const Q c2 = c * c, e2r = e * e * r;
+    const int m = int(CGAL::compare(c2, e2r));  // sign(|c| - |e|·sqrt(r))
+    return m > 0 ? sc : m < 0 ? se : 0;
+}
+}  // namespace
+
+// a = pa + sa·sqrt(ra), b = pb + sb·sqrt(rb) (s = 0 for a rational). With u = pa - pb,
+// L = u + sa·sqrt(ra) and R = sb·sqrt(rb): sign(a - b) = sign(L - R). When L and R have
+// different signs that decides; with the same sign s, sign(L - R) = s·sign(L² - R²),
+// and L² - R² = (u² + ra - rb) + 2u·sa·sqrt(ra), again a rational plus a multiple of one
+// square root.
+int compare(const ExactValue& a, const ExactValue& b) {
+    using K = ExactValue::Kind;
+    const auto rank = [](K k) { return k == K::minus_infinity ? -1 : k == K::plus_infinity ? 1 : 0; };
+    const int ra_ = rank(a.kind()), rb_ = rank(b.kind());
+    if (ra_ != 0 || rb_ != 0) return ra_ < rb_ ? -1 : ra_ > rb_ ? 1 : 0;
+    const ExactValue::Impl& x = *a.impl();
+    const ExactValue::Impl& y = *b.impl();
+    const Q zero{0};
+    const int sa = x.kind == K::quadratic_root ? x.sigma : 0, sb = y.kind == K::quadratic_root ? y.sigma : 0;
+    const Q& ra = sa ? x.r : zero;
+    const Q& rb = sb ? y.r : zero;
+    const Q u = x.p - y.p;
+    const int sl = sign_plus_root(u, Q{sa}, ra), sr = sb;
+    if (sl != sr) return sl > sr ? 1 : -1;
+    if (sl == 0) return 0;
+    const Q c = u * u + ra - rb, e = Q{2 * sa} * u;
+    return sl * sign_plus_root(c, e, ra);
+}
+
 // =====================================================================================
 // Validity (the contract's rules, exact)
 // =====================================================================================

@@ -65,6 +65,9 @@ public:
     std::string str(std::size_t max_digits = 60) const;
     // Exact equality of two values.
     friend bool operator==(const ExactValue& a, const ExactValue& b);
+    // sign(a - b), exact: -1, 0 or 1 (-inf below every finite value, two equal infinities
+    // 0). Precondition: both have a value.
+    friend int compare(const ExactValue& a, const ExactValue& b);
 
     const Impl* impl() const { return impl_.get(); }
 
