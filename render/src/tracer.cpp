@@ -18,6 +18,23 @@
 
 namespace rayproof::render {
 
+std::vector<Primitive<double>> scene_primitives(const Scene& s) {
+    std::vector<Primitive<double>> prims;
+    prims.reserve(s.objects.size() + s.lights.size());
+    for (const Object& o : s.objects)
+        std::visit(
+            [&](const auto& sh) {
+                if constexpr (std::is_same_v<std::decay_t<decltype(sh)>, Polyhedron>)
+                    prims.emplace_back(sh.kernel());
+                else
+                    prims.emplace_back(sh);
+            },
+            o.shape);
+    for (const Light& l : s.lights)
+        if (l.visible()) prims.emplace_back(Sphere<double>{l.position, l.radius});
+    return prims;
+}
+
 namespace {
 
 using Rayd = Ray<double>;
@@ -37,31 +54,14 @@ struct Candidate {
     Hitd hit;
 };
 
-// The scene's objects and the spheres of its visible lights as the kernel's primitives,
-// in that order (object i is primitive i; the k-th visible light's sphere is primitive
-// objects + k), and their BVH. A polyhedron's planes stay the Scene's: the Scene must
-// outlive it. Planes and unbounded polyhedra sit beside the tree (bvh.hpp).
+// The scene's BVH over scene_primitives (tracer.hpp). Planes and unbounded polyhedra sit
+// beside the tree (bvh.hpp).
 struct SceneBvh {
     std::size_t objects = 0;
     Bvh<double, 8> bvh;
 };
 
-SceneBvh build_bvh(const Scene& s) {
-    std::vector<Primitive<double>> prims;
-    prims.reserve(s.objects.size() + s.lights.size());
-    for (const Object& o : s.objects)
-        std::visit(
-            [&](const auto& sh) {
-                if constexpr (std::is_same_v<std::decay_t<decltype(sh)>, Polyhedron>)
-                    prims.emplace_back(sh.kernel());
-                else
-                    prims.emplace_back(sh);
-            },
-            o.shape);
-    for (const Light& l : s.lights)
-        if (l.visible()) prims.emplace_back(Sphere<double>{l.position, l.radius});
-    return SceneBvh{s.objects.size(), Bvh<double, 8>(prims)};
-}
+SceneBvh build_bvh(const Scene& s) { return SceneBvh{s.objects.size(), Bvh<double, 8>(scene_primitives(s))}; }
 
 template <class M> class Tracer {
 public:

@@ -62,17 +62,7 @@ TEST(Scale, ParsesOneHundredThousandObjects) {
     }
     EXPECT_EQ(mismatched, 0u);
     // The BVH the tracer builds over them fits in render_need's estimate.
-    std::vector<Primitive<double>> prims;
-    for (const Object& o : s.objects)
-        std::visit(
-            [&](const auto& sh) {
-                if constexpr (std::is_same_v<std::decay_t<decltype(sh)>, Polyhedron>)
-                    prims.emplace_back(sh.kernel());
-                else
-                    prims.emplace_back(sh);
-            },
-            o.shape);
-    prims.emplace_back(Sphere<double>{s.lights[1].position, s.lights[1].radius});
+    const std::vector<Primitive<double>> prims = scene_primitives(s);
     const Bvh<double, 8> bvh(prims);
     const BvhStats st = bvh.stats();
     std::uint64_t estimate = 0;

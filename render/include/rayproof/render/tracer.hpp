@@ -36,6 +36,7 @@
 // Secondary-ray origins: see SurfacePoint::offset below (no fixed epsilon).
 #pragma once
 
+#include <rayproof/closest.hpp>
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/surface_point.hpp>
 #include <rayproof/render/image.hpp>
@@ -45,6 +46,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace rayproof::render {
 
@@ -98,6 +100,12 @@ struct RenderResult {
 // Renders scene.settings.width × height pixels in scene.settings.mode, the rows shared
 // out among the threads. The image and the counts are the same for any number of threads.
 RenderResult render(const Scene& scene, const RenderOptions& options = {});
+
+// The scene's objects and the spheres of its visible lights as the kernel's primitives,
+// in that order (object i is primitive i; the k-th visible light's sphere is primitive
+// objects + k): what the tracer's BVH is built over. A polyhedron's planes stay the
+// Scene's: the Scene must outlive the primitives.
+std::vector<::rayproof::Primitive<double>> scene_primitives(const Scene& scene);
 
 // The primary ray through image point (px, py), in pixel units with y pointing down:
 // the centre of pixel (x, y) is (x + 0.5, y + 0.5).
