@@ -327,8 +327,10 @@ template <class T, class X> Hit<T> parallel_answer(const Ray<T>& r, const X& x) 
 
 // The conservative answer by interval arithmetic per operation, with exact signs where
 // the intervals hold 0: what plane_conservative_common declines (parallel and nearly
-// parallel rays, extreme exponents), out of line. The inputs are valid.
+// parallel rays, extreme exponents, and every invalid input), out of line. The validity
+// rules are checked here, in full (the common path proves them when it answers).
 template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_conservative_general(const Ray<T>& r, const Plane<T>& p) {
+    if (!valid(p) || !valid(r)) return invalid_hit<T>();
     const PlaneCrossing<T> x(r, p);
     Hit<T> h;
     if (x.den_sign() == 0) return parallel_answer(r, x);
@@ -366,6 +368,13 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_conservative_genera
 // An infinite or NaN E or t~ (an overflow: huge inputs, a nearly parallel ray) and
 // everything the checks above exclude (a parallel ray, whose answer needs the exact
 // sign of N) go to plane_conservative_general.
+// The same checks prove the validity rules but those on t_min and t_max (valid_range,
+// joined to them): |inv| in [2^-1022, max] makes D~ finite and nonzero, so n and d are
+// nonzero; e_D <= 2^-20|D~| then makes e_D, S_D~ and every |n_j d_j| finite (not NaN:
+// a comparison with NaN is false), hence n and d finite (a finite number times ±inf is
+// ±inf or NaN, 0·inf included); a finite E makes e_N, S_N~, |offset| and every
+// |n_j o_j| finite, hence offset and o finite. So an invalid input never answers here:
+// it goes to plane_conservative_general, which checks the rules in full.
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray<T>& r, const Plane<T>& p) {
     constexpr double K = gamma<double>(4), eta = 0x1p-1022, u = unit_roundoff<double>,
@@ -383,7 +392,8 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray
     const double e = en + (std::abs(num) * ed) * ai;
     const double bound = 2 * (e * ai + 3 * u * std::abs(t)) + eta;
     const bool ok = int(ed <= 0x1p-20 * std::abs(den)) & int(ai >= std::numeric_limits<double>::min()) &
-                    int(ai <= big) & int(bound <= big);  // false for NaN; a finite bound needs a finite t
+                    int(ai <= big) & int(bound <= big) &  // false for NaN; a finite bound needs a finite t
+                    int(valid_range(r));
     if (!ok) [[unlikely]]
         return std::nullopt;
     const double lo = t - bound, hi = t + bound;
@@ -400,7 +410,10 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray
 template <class R, class T>
     requires RayOrPrepared<R, T>
 RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, conservative_t) {
-    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    // A Ray's validity is proven by the common path or checked by the general one; a
+    // prepared ray's flag (and the plane's) is one test.
+    if constexpr (is_prepared_ray_v<R>)
+        if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
     return common_or_fallback(plane_conservative_common(r, p.shape), [&] { return plane_conservative_general(r, p.shape); });
 }
