@@ -376,3 +376,53 @@ TYPED_TEST(CertifiedExactStage, SphereStraightLinePathAgreesWithGeneralPath) {
         [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_certified_common(r, s); },
         [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_certified_general(r, s); });
 }
+// The float straight-line path (sphere_certified_float: plain double with gamma bounds, no
+// double-word arithmetic), in front of sphere_certified_common for float input: wherever
+// it answers, the general path's answer bit for bit, on every generator (tangents, a
+// hair off them, origins on the sphere, extreme magnitudes), and nearly always on
+// general-position input.
+TEST(CertifiedExactStageFloat, SphereFloatStraightLinePathAgreesWithGeneralPath) {
+    using T = float;
+    common_agrees_with_general<T, Sphere<T>>(
+        [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_certified_float(r, s); },
+        [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_certified_general(r, s); });
+}
+// The float path's root pins (sphere_float_pin_enter / _exit) from deliberately wrong
+// candidates: the general path's t_enter (t_exit) moved by -3 to +3 floats. Whatever the
+// candidate, a pin answers the general path's float or nothing; from the right float
+// (offset 0) it answers every root of general-position input. A pin that trusted the
+// candidate without proving both signs would answer a neighbour here.
+TEST(CertifiedExactStageFloat, SphereFloatPinsProveTheirCandidates) {
+    using T = float;
+    int tried = 0, answered_exact = 0;
+    on_valid_cases<T, Sphere<T>>("the float pins", [&](const auto& c, const std::string& where, bool& answered) {
+        const Hit<T> general = detail::sphere_certified_general(c.ray, c.shape);
+        answered = true;  // the pins are checked on every hit below; none is required to answer
+        if (general.verdict != Verdict::hit || general.t_enter == general.t_exit) return;
+        const detail::SphereFloatLine line = detail::sphere_float_line(c.ray, c.shape);
+        for (int k = -3; k <= 3; ++k) {
+            auto moved = [k](T x) {
+                for (int i = 0; i < k; ++i) x = detail::step_up(x);
+                for (int i = 0; i > k; --i) x = detail::step_down(x);
+                return x == 0 ? T(0) : x;
+            };
+            // t_enter above t_min: q(t_min) > 0 (else the general path answers t_min).
+            if (general.t_enter != c.ray.t_min && std::isfinite(general.t_enter)) {
+                const std::optional<T> e = detail::sphere_float_pin_enter(c.ray, line, moved(general.t_enter));
+                ASSERT_TRUE(!e || same_bits(*e, general.t_enter))
+                    << where << ", t_enter candidate moved by " << k << ": pin " << *e << ", general " << general;
+                tried += k == 0 && c.generator == "general";
+                answered_exact += k == 0 && c.generator == "general" && e.has_value();
+            }
+            if (general.t_exit != c.ray.t_max && std::isfinite(general.t_exit)) {
+                const std::optional<T> e = detail::sphere_float_pin_exit(c.ray, line, moved(general.t_exit));
+                ASSERT_TRUE(!e || same_bits(*e, general.t_exit))
+                    << where << ", t_exit candidate moved by " << k << ": pin " << *e << ", general " << general;
+                tried += k == 0 && c.generator == "general";
+                answered_exact += k == 0 && c.generator == "general" && e.has_value();
+            }
+        }
+    });
+    ASSERT_GT(tried, 0);
+    EXPECT_GE(answered_exact, tried - tried / 100) << "the pins proved " << answered_exact << " of " << tried;
+}

@@ -44,7 +44,14 @@
 //            from the centre, or by q > 0 with the slope pointing away at an end of the
 //            range. It answers for input magnitudes in [2^-300, 2^300] (or 0) and gives
 //            the general path's answer bit for bit; everything it cannot prove goes to
-//            the general path (sphere_certified). The verdict alone (verdict() in
+//            the general path (sphere_certified). For float input a path without
+//            double-word arithmetic runs first (sphere_certified_float): products of
+//            floats are exact in double, so one plain double evaluation of q with its
+//            gamma(9) bound decides the signs at the float candidates and their
+//            neighbours, the candidates being the double root estimates rounded to float
+//            (no Newton step), and the miss comes from the verdict filter's line
+//            certificate (no division or square root); what it cannot prove goes to the
+//            double-word path above. The verdict alone (verdict() in
 //            intersect.hpp) comes from a filter of its own, signs only, with no square
 //            root, division or root and no range restriction (sphere_verdict_common),
 //            else from the full query.
@@ -72,6 +79,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <utility>
 
 namespace rayproof::detail {
@@ -161,8 +169,16 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, fa
 // The certified answer for valid input, shared by the certified mode and by the
 // conservative mode's fallback: the straight-line path when it answers, else the
 // general path.
-template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> sphere_certified_answer(const Ray<T>& r, const Sphere<T>& s) {
+// For float, the float straight-line path first (no double-word arithmetic); what it
+// declines, out of line, goes to the double-word straight-line path and the general path.
+template <class T> [[gnu::noinline]] Hit<T> sphere_certified_declined(const Ray<T>& r, const Sphere<T>& s) {
     return common_or_general(sphere_certified_common(r, s), [&] { return sphere_certified_general(r, s); });
+}
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> sphere_certified_answer(const Ray<T>& r, const Sphere<T>& s) {
+    if constexpr (std::is_same_v<T, float>)
+        return common_or_general(sphere_certified_float(r, s), [&] { return sphere_certified_declined(r, s); });
+    else
+        return common_or_general(sphere_certified_common(r, s), [&] { return sphere_certified_general(r, s); });
 }
 
 // The conservative answer by interval arithmetic per operation. The inputs are valid.

@@ -6,13 +6,16 @@
 
 #include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/float_util.hpp>
+#include <rayproof/detail/lanes.hpp>
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/ray_sphere_residual.hpp>
+#include <rayproof/detail/ray_sphere_verdict.hpp>
 #include <rayproof/types.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <type_traits>
 #include <utility>
 
 namespace rayproof::detail {
@@ -120,6 +123,33 @@ template <class T> RAYPROOF_ALWAYS_INLINE SphereLine sphere_line(const Ray<T>& r
     return L;
 }
 
+// The float where q's proven sign changes, from a candidate g (+0 for -0) and a sign
+// oracle sign(y) (1, -1, or 2 when it cannot decide) at floats y. t_enter, q decreasing
+// through t0: g when q(g-) > 0 > q(g), g+ when q(g) > 0 > q(g+); q is convex, so every
+// float below is outside and the slope negative there, and the general path's search
+// predicate (a g + b >= 0 or q(g) <= 0) turns true exactly at that float. t_exit, q
+// increasing through t1: g when q(g) < 0 < q(g+), g- when q(g-) < 0 < q(g). The answer
+// does not depend on the candidate, only on the proven signs: any candidate that lands
+// on the float or its neighbour gives the same float. Nothing (the general path answers)
+// when the signs are not proven or the float leaves the range.
+template <class T> RAYPROOF_ALWAYS_INLINE T sphere_canonical(T x) { return x == 0 ? T(0) : x; }  // step_up(-min) is -0
+template <class T, class Sign>
+RAYPROOF_ALWAYS_INLINE std::optional<T> sphere_pin_enter(const Ray<T>& r, T g, Sign&& sign) {
+    if (!(std::isfinite(g) && g > r.t_min)) return std::nullopt;
+    const int sg = sign(g);
+    if (sg < 0 && g <= r.t_max && sign(step_down(g)) == 1) return g;
+    if (sg == 1 && step_up(g) <= r.t_max && sign(step_up(g)) < 0) return sphere_canonical(step_up(g));
+    return std::nullopt;
+}
+template <class T, class Sign>
+RAYPROOF_ALWAYS_INLINE std::optional<T> sphere_pin_exit(const Ray<T>& r, T g, Sign&& sign) {
+    if (!(std::isfinite(g) && g < r.t_max)) return std::nullopt;
+    const int sg = sign(g);
+    if (sg < 0 && g >= r.t_min && sign(step_up(g)) == 1) return g;
+    if (sg == 1 && step_down(g) >= r.t_min && sign(step_down(g)) < 0) return sphere_canonical(step_down(g));
+    return std::nullopt;
+}
+
 template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified_common(const Ray<T>& r,
                                                                                           const Sphere<T>& s) {
     const SphereLine L = sphere_line(r, s);
@@ -196,40 +226,145 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified
         if (dd.lo != 0 || !(thr <= 0x1p1000)) return 2;
         return V > thr ? 1 : V < -thr ? -1 : 2;
     };
-    auto canonical = [](T x) { return x == 0 ? T(0) : x; };  // step_up(-min) is -0
-
     T t_enter, t_exit;
     if (q_min <= 0) {
         t_enter = r.t_min;
     } else {
-        // q decreases through t0: t_enter = g when q(g-) > 0 >= q(g), g+ when q(g) > 0 >= q(g+).
         T g;
         const SphereResidual::Value qx = refine(t0, g);
-        if (!(std::isfinite(g) && g > r.t_min)) return std::nullopt;
-        const int sg = sign_near(qx, t0, g);
-        if (sg < 0 && g <= r.t_max && sign_near(qx, t0, step_down(g)) == 1) {
-            t_enter = g;
-        } else if (sg == 1 && step_up(g) <= r.t_max && sign_near(qx, t0, step_up(g)) < 0) {
-            t_enter = canonical(step_up(g));
-        } else {
-            return std::nullopt;
-        }
+        const std::optional<T> e = sphere_pin_enter(r, g, [&](T y) { return sign_near(qx, t0, y); });
+        if (!e) return std::nullopt;
+        t_enter = *e;
     }
     if (q_max <= 0) {
         t_exit = r.t_max;
     } else {
-        // q increases through t1: t_exit = g when q(g) <= 0 < q(g+), g- when q(g-) <= 0 < q(g).
         T g;
         const SphereResidual::Value qx = refine(t1, g);
-        if (!(std::isfinite(g) && g < r.t_max)) return std::nullopt;
-        const int sg = sign_near(qx, t1, g);
-        if (sg < 0 && g >= r.t_min && sign_near(qx, t1, step_up(g)) == 1) {
-            t_exit = g;
-        } else if (sg == 1 && step_down(g) >= r.t_min && sign_near(qx, t1, step_down(g)) < 0) {
-            t_exit = canonical(step_down(g));
-        } else {
-            return std::nullopt;
-        }
+        const std::optional<T> e = sphere_pin_exit(r, g, [&](T y) { return sign_near(qx, t1, y); });
+        if (!e) return std::nullopt;
+        t_exit = *e;
+    }
+    h.verdict = Verdict::hit;
+    h.t_enter = t_enter > t_exit ? t_exit : t_enter;
+    h.t_exit = t_exit;
+    return h;
+}
+
+// sphere_cheap_signs's q at two points at once (lane 0: y0, lane 1: y1), the same
+// operations and the same bound in each lane; bit k of pos (neg) set when q(y_k) is
+// certainly > 0 (< 0). A threshold above 2^1000 decides nothing, as there.
+struct SphereCheapPair {
+    int pos, neg;
+};
+RAYPROOF_ALWAYS_INLINE SphereCheapPair sphere_cheap_q2(const double (&delta)[3], const double (&d)[3], double rad,
+                                                       double y0, double y1) {
+    using namespace lanes;
+    constexpr double eta = 0x1p-1000, g9 = 2 * gamma<double>(9);
+    const D2 t = make(y0, y1);
+    D2 v = splat(-rad * rad), bq = splat(rad * rad);
+    RAYPROOF_UNROLL3
+    for (int j = 0; j < 3; ++j) {
+        const D2 P = t * splat(d[j]), W = splat(delta[j]) + P, M = splat(std::abs(delta[j])) + abs(P);
+        v = v + W * W;
+        bq = bq + M * M;
+    }
+    const D2 tq = bq * splat(g9) + splat(eta);
+    const M2 usable = tq <= splat(0x1p1000);
+    return {bits(usable & (v > tq)), bits(usable & (v < -tq))};
+}
+
+// The float straight-line path, in front of sphere_certified_common for T = float: no
+// double-word arithmetic at all. The roots are estimated in double as above and rounded
+// to float (no Newton step), and every sign comes from sphere_cheap_signs, the plain
+// evaluation in double with its gamma(9) bound, at a float y. For float input that bound
+// decides the signs the answer needs: near the root t0 a float step moves q by about
+// 2|a t0 + b|·2^-24|t0|, while the bound is about 2^-49·(Σ M_j² + r²), so only a ray
+// within about 2^-25 (relative) of tangency, or a root within about 2^-25 of a float's
+// step from a float, is left undecided, and goes to sphere_cheap_signs's double-word
+// sibling (sphere_certified_common), then to the general path. Every answer rests on
+// proven signs only: a miss on the line's distance (below) or on the signs at an end of
+// the range, as sphere_certified_common; a hit on the end signs and on the float where
+// the proven sign of q changes (sphere_pin_enter / sphere_pin_exit, or their first case
+// with both signs from one paired evaluation, sphere_cheap_q2, at the float on the
+// estimate's side of the root and its neighbour across it), which is the general
+// path's search answer whatever the candidate; so the answer is the general path's bit
+// for bit.
+// The miss on the line's distance comes from the verdict filter's certificate
+// (sphere_line_certificate, ray_sphere_verdict.hpp: no division, no square root), valid
+// when a~ >= 2^-1000, which every valid float direction gives (a nonzero float component
+// is at least 2^-149, its square 2^-298, exact in double); and float input cannot
+// overflow it (every magnitude below 2^128, every product of four below 2^520). The
+// root estimates reuse its D (-D ≈ b² - a c'): qq = -(b + sign(b)·sqrt(-D)), t0 = qq/a,
+// t1 = c'/qq; they need no proof (a NaN or infinite one declines), the signs decide.
+// The float path's inputs in double: d exact, Δ~_j = fl(o_j - c_j), r exact.
+struct SphereFloatLine {
+    double d[3], delta[3], rad;
+};
+template <class T> RAYPROOF_ALWAYS_INLINE SphereFloatLine sphere_float_line(const Ray<T>& r, const Sphere<T>& s) {
+    SphereFloatLine L;
+    L.rad = double(s.radius);
+    for (int j = 0; j < 3; ++j) {
+        L.d[j] = double(r.direction[j]);
+        L.delta[j] = double(r.origin[j]) - double(s.center[j]);
+    }
+    return L;
+}
+// t_enter from a candidate g (q(t_min) > 0 proven): g when q(g-) > 0 > q(g), both signs
+// from one paired evaluation (sphere_pin_enter's first case), else sphere_pin_enter from
+// g with scalar signs. Any candidate gives the general path's t_enter or nothing.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<T> sphere_float_pin_enter(const Ray<T>& r, const SphereFloatLine& L,
+                                                                                  T g) {
+    const SphereCheapPair p = sphere_cheap_q2(L.delta, L.d, L.rad, double(step_down(g)), double(g));
+    if (p.pos == 1 && p.neg == 2 && std::isfinite(g) && g > r.t_min && g <= r.t_max) return g;
+    return sphere_pin_enter(r, g, [&](T y) { return sphere_cheap_signs(L.delta, L.d, L.rad, double(y)).q; });
+}
+// t_exit likewise (q(t_max) > 0 proven): g when q(g) < 0 < q(g+), else sphere_pin_exit.
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<T> sphere_float_pin_exit(const Ray<T>& r, const SphereFloatLine& L,
+                                                                                 T g) {
+    const SphereCheapPair p = sphere_cheap_q2(L.delta, L.d, L.rad, double(g), double(step_up(g)));
+    if (p.neg == 1 && p.pos == 2 && std::isfinite(g) && g < r.t_max && g >= r.t_min) return g;
+    return sphere_pin_exit(r, g, [&](T y) { return sphere_cheap_signs(L.delta, L.d, L.rad, double(y)).q; });
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified_float(const Ray<T>& r,
+                                                                                         const Sphere<T>& s) {
+    static_assert(std::is_same_v<T, float>);
+    const SphereFloatLine L = sphere_float_line(r, s);
+    const double(&d)[3] = L.d;
+    const double(&delta)[3] = L.delta;
+    const double rad = L.rad, rr = rad * rad;
+    const double a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+    const double b = d[0] * delta[0] + d[1] * delta[1] + d[2] * delta[2];
+    const double cc = ((delta[0] * delta[0] - rr) + delta[1] * delta[1]) + delta[2] * delta[2];
+    const SphereLineCertificate lc = sphere_line_certificate(d, delta, rr, a);
+    Hit<T> h;
+    if (lc.D > lc.E) return h;  // the line's distance from the centre exceeds r
+    // b² - a c' = a (r² - l²) = r² a - |Δ × d|² = -D, up to rounding: the estimates.
+    const double qq = -(b + std::copysign(std::sqrt(-lc.D), b));
+    double t0 = qq / a, t1 = cc / qq;
+    if (t1 < t0) std::swap(t0, t1);
+    if (!(std::isfinite(t0) && std::isfinite(t1))) return std::nullopt;
+    const bool min_inf = std::isinf(r.t_min), max_inf = std::isinf(r.t_max);
+    const SphereCheapSigns at_min = min_inf ? SphereCheapSigns{1, -1} : sphere_cheap_signs(delta, d, rad, double(r.t_min));
+    const SphereCheapSigns at_max = max_inf ? SphereCheapSigns{1, 1} : sphere_cheap_signs(delta, d, rad, double(r.t_max));
+    if (at_min.q == 2 || at_max.q == 2) return std::nullopt;
+    if (at_min.q > 0 && at_min.slope == 1) return h;
+    if (at_max.q > 0 && at_max.slope < 0) return h;
+    T t_enter = r.t_min, t_exit = r.t_max;
+    if (at_min.q > 0) {
+        T g = sphere_canonical(narrow<T>(t0));
+        if (double(g) < t0) g = sphere_canonical(step_up(g));
+        const std::optional<T> e = sphere_float_pin_enter(r, L, g);
+        if (!e) return std::nullopt;
+        t_enter = *e;
+    }
+    if (at_max.q > 0) {
+        T g = sphere_canonical(narrow<T>(t1));
+        if (double(g) > t1) g = sphere_canonical(step_down(g));
+        const std::optional<T> e = sphere_float_pin_exit(r, L, g);
+        if (!e) return std::nullopt;
+        t_exit = *e;
     }
     h.verdict = Verdict::hit;
     h.t_enter = t_enter > t_exit ? t_exit : t_enter;

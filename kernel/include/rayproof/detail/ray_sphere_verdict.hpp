@@ -54,10 +54,32 @@ namespace rayproof::detail {
 // Contraction (detail/eft.hpp): class C1. A fused w~ = fl(A - B~) or D~ = fl(S~ - r·r·a~)
 // has one rounding fewer than counted; |w~| <= M then holds up to a factor (1 + u)^2,
 // which the slack between the terms counted (11u·M² at most) and gamma(13)·M² covers.
+// The line's certificate (derivation above): D = fl(|w~|² - r²·a~) with w = Δ × d and
+// its bound E, so D > E proves the line's distance l > r and -D > E proves l < r (when
+// a~ >= 2^-1000). Shared with the float straight-line path (ray_sphere_straight_line.hpp),
+// which takes its root estimates from the same D.
+struct SphereLineCertificate {
+    double D, E;
+};
+RAYPROOF_ALWAYS_INLINE SphereLineCertificate sphere_line_certificate(const double (&d)[3], const double (&delta)[3],
+                                                                     double rr, double a) {
+    constexpr double eta = 0x1p-1000, g13 = 2 * gamma<double>(13), g7 = 2 * gamma<double>(7);
+    double S = 0, MM = 0;
+    RAYPROOF_UNROLL3
+    for (int j = 0; j < 3; ++j) {
+        const int k = (j + 1) % 3, m = (j + 2) % 3;
+        const double A = delta[k] * d[m], B = delta[m] * d[k], w = A - B, M = std::abs(A) + std::abs(B);
+        S += w * w;
+        MM += M * M;
+    }
+    const double R = rr * a;
+    return {S - R, (g13 * MM + g7 * R + 0x1p-1072 * a) + eta};
+}
+
 template <class T> RAYPROOF_ALWAYS_INLINE int sphere_verdict_common(const Ray<T>& r, const Sphere<T>& s) {
     using namespace lanes;
     constexpr double eta = 0x1p-1000, g9 = 2 * gamma<double>(9), g6 = 2 * gamma<double>(6),
-                     g13 = 2 * gamma<double>(13), g7 = 2 * gamma<double>(7), inf = std::numeric_limits<double>::infinity();
+                     inf = std::numeric_limits<double>::infinity();
     const double rad = double(s.radius), rr = rad * rad;
     double d[3], delta[3];
     RAYPROOF_UNROLL3
@@ -67,16 +89,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE int sphere_verdict_common(const Ray<T>
     }
     // The line's certificate.
     const double a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    double S = 0, MM = 0;
-    RAYPROOF_UNROLL3
-    for (int j = 0; j < 3; ++j) {
-        const int k = (j + 1) % 3, m = (j + 2) % 3;
-        const double A = delta[k] * d[m], B = delta[m] * d[k], w = A - B, M = std::abs(A) + std::abs(B);
-        S += w * w;
-        MM += M * M;
-    }
-    const double R = rr * a, E = (g13 * MM + g7 * R + 0x1p-1072 * a) + eta, D = S - R;
-    const bool line_out = D > E, line_in = -D > E;
+    const SphereLineCertificate lc = sphere_line_certificate(d, delta, rr, a);
+    const bool line_out = lc.D > lc.E, line_in = -lc.D > lc.E;
     // The ends.
     const D2 t = make(double(r.t_min), double(r.t_max));
     D2 v = splat(-rr), bq = splat(rr), sl = splat(0.0), bs = splat(0.0);
