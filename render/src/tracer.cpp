@@ -304,8 +304,40 @@ private:
         SurfacePoint sp;
         sp.p = k.p;
         sp.n = k.n;
-        sp.offset = spawn_offset(k) + gamma_bound(24) * s.radius;
+        sp.offset = spawn_offset(k) + sphere_margin(s.radius);
         return sp;
+    }
+
+    // The margin K of tracer.hpp for a sphere of radius r. Fast (and certified, which
+    // needs none): gamma(24)·r. Conservative: gamma(105)·r, beyond the slack of the
+    // kernel's enclosure (ray_sphere.hpp, sphere_conservative_common, "Slack": Et, El,
+    // Rh), derived here for a ray o + t·d leaving the sphere: o at distance ρ = r + δ
+    // from the centre (δ >= K outside) and d pointing away from it (d·(o - c) >= 0, so
+    // the closest approach t* <= 0). In units of t, λ² + t*² = (ρ/|d|)² and the exact
+    // answer is behind o or empty. The upper end is at most T + sqrt(max(Rh² - λ'², 0)),
+    // T = t* + Et, λ' >= λ - El:
+    //   T < 0: (λ', T) is within El + Et of (λ, t*), so its norm is at least ρ/|d| - El -
+    //     Et; when that exceeds Rh, sqrt(Rh² - λ'²) < |T| and the upper end is negative.
+    //   T >= 0: |t*| <= Et, so λ >= ρ/|d| - Et²|d|/ρ (sqrt(x² - y²) >= x - y²/x), and
+    //     λ_lo > R_hi (<= Rh), a proven miss, when ρ/|d| - El - Et²|d|/ρ > Rh.
+    // In lengths (times |d|), with |Δ| = ρ, Sb~ <= (1 + 5u)|d|ρ (Cauchy-Schwarz), P~ <=
+    // 2(1 + 7.1u)|d|ρ (Σ_{i != j}|Δ_i d_j| <= 2|Δ||d|) and inv <= (1 + 5.1u)/|d|²:
+    // Et·|d| <= 22.41u·ρ, El·|d| <= 52.61u·ρ, (Rh - R)·|d| <= 29.3u·r, Et²|d|²/ρ <=
+    // 503u²·ρ, and the absolute terms at most 2^-497·|d|. Both cases hold when
+    // δ(1 - 75.03u) > 104.33u·r + 2^-497·|d|, and δ >= gamma(105)·r gives δ(1 - 75.03u) >=
+    // 105u(1 + 29.9u)·r: 0.67u·r to spare, for the absolute terms (r >= 2^-440·|d|: a
+    // sphere not 2^-440 times smaller than the way to the light) and for a direction
+    // turned towards the centre by the normal's error θ (t* <= θρ/|d| adds θ²ρ to the
+    // second-order term) up to θ = 2^-27. The tracer's rays reach the kernel's interval
+    // fallback (|d|² outside [2^-400, 2^1000]) only for a light within 2^-200 of the
+    // point. A ray leaving from inside (δ inside) needs nothing: the enclosure's lower
+    // end is at most the exact entry, behind o. The other modes keep gamma(24)·r bit for
+    // bit (their goldens stay).
+    static double sphere_margin(double r) {
+        if constexpr (std::is_same_v<M, conservative_t>)
+            return gamma_bound(105) * r;
+        else
+            return gamma_bound(24) * r;
     }
 
     // The face a box ray meets, its parameter and its hit record (entry face, or for a
@@ -342,13 +374,25 @@ private:
     }
 
     // The margin K of tracer.hpp for a box face at p: Aabb 0; Obb gamma(12)·Σ_j|(p - c)_j·a_j|
-    // / |a|, a the face's column.
+    // / |a|, a the face's column, gamma(25) in conservative mode.
+    // Aabb, conservative: the face's exit value x = (hi - o)/d (or lo's) is widened to
+    // fl(x + B), B = fl(fl(2·gamma(3)·|x|) + 2^-1022) (ray_aabb.hpp), which stays below 0
+    // for |x| > 2^-1021: the origin is at least the underflow floor 2^-60·|d|_inf past
+    // the face, so |x| >= 2^-60 and K = 0 still holds.
+    // Obb, conservative: each slab value is widened to fl(t~ ± E), E = 2·B0 + 2^-1022
+    // with B0 = (eo + |num~|(u + ed·|inv|))·|inv| + 3u|t~| and |t - t~| <= (1 + 2^-18)·B0
+    // (ray_obb.hpp, obb_conservative_common), so the upper end is at most t + 3.01·B0 +
+    // 3·2^-1022. For a ray leaving the face at distance δ, t = -δ|a|/|d'|, |num| =
+    // δ|a|, ed·|inv| <= 2^-20 and eo <= 8u(1 + 10u)·Σ_j|a_j Δ_j| + 2^-1021: the end is
+    // negative when δ|a|(1 - 3.01·2^-20 - 14u) > 24.1u·Σ + 2^-1019·(1 + |d'|), which
+    // δ >= gamma(25)·Σ/|a| gives with 0.9u·Σ/|a| to spare for the absolute terms (for
+    // Σ >= 2^-960·(1 + |d'|)).
     static double margin(const Aabb<double>&, int, const Vec3d&) { return 0; }
     static double margin(const Obb<double>& b, int face, const Vec3d& p) {
         const Vec3d a = b.axes.col(face / 2);
         const Vec3d pc = p - b.center;
         const double terms = std::abs(pc[0] * a[0]) + std::abs(pc[1] * a[1]) + std::abs(pc[2] * a[2]);
-        return gamma_bound(12) * terms / a.norm();
+        return gamma_bound(std::is_same_v<M, conservative_t> ? 25 : 12) * terms / a.norm();
     }
 
     // A box's surface point: on the face box_face names, at its t_enter (the kernel brings
@@ -407,6 +451,16 @@ private:
         return sp;
     }
 
+    // The plane's margin K (tracer.hpp) is gamma(12)·S/|n|, S = |offset| + Σ|n_i p_i|,
+    // and gamma(13)·S/|n| in conservative mode: the kernel widens t~ = fl(N~·fl(1/D~))
+    // to fl(t~ ± E), E = 2·B0 + 2^-1022 with B0 = (e_N + |N~|·e_D·|inv|)·|inv| + 3u|t~|
+    // and |t - t~| <= (1 + 2^-18)·B0 (ray_plane.hpp, plane_conservative_common), so the
+    // upper end is at most t + 3.01·B0 + 3·2^-1022. For a ray leaving the plane at
+    // distance δ, t = -δ|n|/|D|, |N~|·|inv| <= (1 + 3u)|t|, e_D·|inv| <= 2^-20 and e_N <=
+    // 4u(1 + 10u)·S + 2^-1021: the end is negative when δ|n|(1 - 3.01·2^-20 - 14u) >
+    // 12.05u·S + 2^-1019·(1 + |D|), which δ >= gamma(13)·S/|n| gives with 0.9u·S/|n| to
+    // spare, for S at the new origin (above S at p by O(u²·S)) and the absolute terms
+    // (for S >= 2^-960·(1 + |D|)).
     SurfacePoint at(const Plane<double>& pl, const Rayd& ray, const Candidate& c) {
         Hitd h = c.hit;
         h.t_enter = c.t;
@@ -417,7 +471,7 @@ private:
         const Vec3d& n = pl.normal;
         const double terms =
             std::abs(n[0] * sp.p[0]) + std::abs(n[1] * sp.p[1]) + std::abs(n[2] * sp.p[2]) + std::abs(pl.offset);
-        sp.offset = spawn_offset(k) + gamma_bound(12) * terms / n.norm();
+        sp.offset = spawn_offset(k) + gamma_bound(std::is_same_v<M, conservative_t> ? 13 : 12) * terms / n.norm();
         return sp;
     }
 

@@ -17,8 +17,14 @@
 // Modes:     fast — l carries a relative error of a few gamma(n) of |Δ|, so for a ray
 //            passing at distance ~r from the centre, the verdict is uncertain within
 //            about gamma(8)·|Δ| of tangency; measured, not promised.
-//            conservative — the same formulas in interval arithmetic with outward
-//            rounding (in double for both scalar types): the discriminant as
+//            conservative — in the pbrt-v4 manner first (sphere_conservative_common):
+//            the closest approach t* = -b/a, the radius r/|d| and the line's distance
+//            |Δ × d|/a from the centre (all in units of t) in one plain evaluation in
+//            double, each widened by a bound derived for it (at the code); the chord
+//            [t* - w, t* + w], w = sqrt((r/|d|)² - (|Δ × d|/a)²), from the widened values.
+//            Outside its range (|d|² beyond [2^-400, 2^1000] or an overflow, double
+//            input only): the same formulas as fast mode in interval arithmetic with
+//            outward rounding (in double for both scalar types): the discriminant as
 //            a·(r - l)(r + l), l = |Δ - (b/a) d|, and the roots from q = -(b + sign(b)·√disc)
 //            when the sign of b is certain (the naive (-b ∓ √disc)/a otherwise). A
 //            discriminant interval reaching 0 counts as a hit: never a false miss.
@@ -181,13 +187,10 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> sphere_certified_answer(const R
         return common_or_general(sphere_certified_common(r, s), [&] { return sphere_certified_general(r, s); });
 }
 
-// The conservative answer by interval arithmetic per operation. The inputs are valid.
-// (A plain evaluation widened by gamma(n) bounds, pbrt-v4's manner, was tried: for a
-// ray leaving the sphere's surface its slack, 32u·|b|/a at the closest approach plus a
-// radius widened by 16u, exceeds the tracer's spawn offset of gamma(24)·r, so the
-// tracer's conservative renders met their own spheres. The interval form stays until
-// the spawn offset accounts for the wider enclosure.)
-template <class T> Hit<T> sphere_conservative_general(const Ray<T>& r, const Sphere<T>& s) {
+// The conservative answer by interval arithmetic per operation: what
+// sphere_conservative_common declines (extreme exponents), out of line. The inputs are
+// valid.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_conservative_general(const Ray<T>& r, const Sphere<T>& s) {
     const SphereQuadratic<T> q(r, s);
     if (!(q.a().lo > 0)) {
         // a = |d|² underflowed (|d| below about 2^-537): the interval formulas divide by
@@ -213,11 +216,101 @@ template <class T> Hit<T> sphere_conservative_general(const Ray<T>& r, const Sph
     return h;
 }
 
+// The conservative answer in the pbrt-v4 manner: one plain evaluation in double (for
+// both scalar types) of the closest approach t* = -b/a and of the two lengths, in units
+// of t, that decide the chord: R = r/|d| (the radius) and λ = l/|d| = |Δ × d|/a (the
+// distance from the centre to the line, by Lagrange's identity |Δ|²a - b² = |Δ × d|²),
+// each widened by a bound derived for it. The exact answer is [t* - w, t* + w] with w =
+// sqrt(R² - λ²) when λ <= R, else empty, so with
+//     |t*~ - t*| <= E1,  λ >= λ_lo,  R <= R_hi,  W >= sqrt(R_hi² - λ_lo²),
+// λ_lo > R_hi proves a miss, and [t*~ - (W + E1), t*~ + (W + E1)] encloses the exact
+// interval. No branch on the geometry (one on the range of the input).
+// Bounds (u = 2^-53; Δ~_j = fl(o_j - c_j) = Δ_j(1 + ε), |ε| <= u; products in the
+// subnormal range are off by at most 2^-1075 each; a~ in [2^-400, 2^1000] is checked, so
+// inv = fl(1/a~) <= 2^400 and every such absolute error, over a, stays below 2^-670):
+//   a~ = fl(Σ d_j²): |a~ - a| <= gamma(3)·a, so fl(1/a~)·(1 ± u) is 1/a within 5.1u.
+//   b~ = fl(Σ d_j Δ~_j): |b~ - b| <= gamma(4)·Sb, Sb = Σ|d_j Δ_j| <= (1 + 3.1u)·Sb~ (the
+//     same sum of the |products|, rounded alike), and |b~| <= Sb~; t*~ = fl(-b~·inv):
+//     |t*~ - t*| <= |b~ - b|/a + |b~|·5.1u/a <= 9.3u·Sb~·inv + 2^-670.
+//   The upper end fl(t*~ + H), H = fl(W + E1), is at least t*~ + (W + E1)(1 - 2u) -
+//     u·|t*~| (the lower end likewise at most t*~ - (W + E1)(1 - 2u) + u·|t*~|), so the
+//     ends enclose [t* - w, t* + w] when W·(1 - 2u) >= sqrt(R_hi² - λ_lo²) and E1·(1 -
+//     2u) >= |t*~ - t*| + u·|t*~|, where |t*~| <= (1 + 2u)·Sb~·inv: E1 must cover
+//     10.31u·Sb~·inv + 2^-670. E1 = fl(12u·fl(Sb~·inv)) + 2^-600 is at least 12u·(1 -
+//     3u)·Sb~·inv + 2^-601 after its own roundings (an underflowed product costs at most
+//     2^-1075, far inside 2^-601), and 12u·(1 - 5u) > 10.31u.
+//   c~_k = fl(fl(Δ~_i d_j) - fl(Δ~_j d_i)): |c~_k - c_k| <= gamma(3)·P_k, P_k = |Δ_i d_j| +
+//     |Δ_j d_i|; with P~ the rounded sum of the six |products|, P <= (1 + 8u)·P~. n~ =
+//     fl(sqrt(fl(Σ c~_k²))) is |c~| within 2.6u|c~| <= 2.7u·P~, so ||c| - n~| <= |c -
+//     c~|_1 + 2.7u·P~ <= 5.8u·P~. λ~ = fl(n~·inv): |λ~ - λ| <= (5.8u·P~ + 5.1u·n~)·inv·
+//     (1 + 5u) + 2^-670 <= 11.2u·P~·inv + 2^-670 (n~ <= (1 + 3u)·P~). λ_lo = fl(λ~ - eλ)
+//     is at most λ when eλ >= (λ~ - λ) + u·λ~ (the rounding of the difference when it is
+//     positive; a negative one rounds to at most 0 <= λ), and u·λ~ <= 1.01u·P~·inv: eλ
+//     must cover 12.21u·P~·inv + 2^-670. eλ = fl(14u·fl(P~·inv)) + 2^-600 is at least
+//     14u·(1 - 4u)·P~·inv + 2^-601 > that.
+//   R~ = fl(r·fl(sqrt(inv))): within (0.5 + 1 + 1 + 1.6)u = 4.1u of R (the roundings of
+//     inv, of the square root and of the product, and a~'s error halved), plus 2^-1075
+//     for a product in the subnormal range (r subnormal); R_hi = fl(fl(R~·(1 + 8u)) +
+//     2^-600) >= R, as (1 - 4.1u)(1 + 8u)(1 - 2u) > 1 and 2^-600·(1 - u) > 2^-1075.
+//   W = fl(fl(sqrt(fl(fl(R_hi - λ_lo')·fl(R_hi + λ_lo'))))·(1 + 8u)) + 2^-500, λ_lo' =
+//     max(λ_lo, 0) (a smaller λ_lo' only widens): the rounded radicand (three roundings)
+//     and root (one more) are at least (1 - 2.6u)·sqrt(R_hi² - λ_lo'²), less 2^-537 for
+//     an underflowed radicand (at most 2^-1075 off); the factor and the sum round twice
+//     more, and (1 - 2.6u)(1 + 8u)(1 - 2u)(1 - 2u) > 1, 2^-500·(1 - 3u) > 2^-537.
+// Contraction (detail/eft.hpp): class C1. A fused product-sum has one rounding fewer
+// than counted (the |products| summed for Sb~ and P~ are the rounded ones, within u of
+// the exact ones' magnitudes, which the factors above allow).
+// Range: every finite float input passes (|Δ|, |d|, r <= 2^129, a >= 2^-298). For
+// double, a~ outside [2^-400, 2^1000] (|d| tiny or huge) or any of E1, eλ, λ~, R~ not
+// finite (an overflow) goes to sphere_conservative_general, out of line.
+// Slack (what a caller spawning rays off the sphere must stay beyond; the render
+// tracer's conservative spawn offset, tracer.cpp, derives its margin from these): the
+// upper end is at most t* + Et + sqrt(max(Rh² - λ_lo'², 0)) and λ - λ_lo' <= El, with
+//     Et = 22.4u·Sb~·inv + 2^-498 (9.3u + E1's 12.01u + the ends' 1.1u, and W's 2^-500),
+//     Rh = (1 + 14.9u)·R_hi <= (1 + 29.3u)·R + 2^-598 (W's roundings and factor, and the
+//          end's (1 + 2.1u), folded into the radius: (1 + k)·sqrt(x² - y²) <=
+//          sqrt(((1 + k)x)² - y²)),
+//     El = 26.3u·P~·inv + 2^-598 (11.2u + eλ's 14.01u + 1.01u);
+// the lower end likewise at least t* - Et - sqrt(max(Rh² - λ_lo'², 0)).
+template <class T>
+RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ray<T>& r, const Sphere<T>& s) {
+    constexpr double u = unit_roundoff<double>, c_t = 12 * u, c_l = 14 * u, up = 1 + 8 * u;
+    const double d0 = r.direction[0], d1 = r.direction[1], d2 = r.direction[2];
+    const double e0 = double(r.origin[0]) - double(s.center[0]), e1 = double(r.origin[1]) - double(s.center[1]),
+                 e2 = double(r.origin[2]) - double(s.center[2]);
+    const double a = (d0 * d0 + d1 * d1) + d2 * d2;
+    const double b0 = d0 * e0, b1 = d1 * e1, b2 = d2 * e2;
+    const double b = (b0 + b1) + b2, sb = (std::abs(b0) + std::abs(b1)) + std::abs(b2);
+    const double x0 = e1 * d2, x1 = e2 * d1, y0 = e2 * d0, y1 = e0 * d2, z0 = e0 * d1, z1 = e1 * d0;
+    const double cx = x0 - x1, cy = y0 - y1, cz = z0 - z1;
+    const double pm = ((std::abs(x0) + std::abs(x1)) + (std::abs(y0) + std::abs(y1))) + (std::abs(z0) + std::abs(z1));
+    const double n = std::sqrt((cx * cx + cy * cy) + cz * cz);
+    const double inv = 1 / a;
+    const double ts = -b * inv, lam = n * inv, rr = double(s.radius) * std::sqrt(inv);
+    const double e_t = c_t * (sb * inv) + 0x1p-600, e_l = c_l * (pm * inv) + 0x1p-600;
+    const bool ok = int(a >= 0x1p-400) & int(a <= 0x1p1000) & int(e_t + e_l + lam + rr < inf<double>);
+    if (!ok) [[unlikely]]
+        return std::nullopt;
+    const double lam_lo = lam - e_l, r_hi = rr * up + 0x1p-600;
+    const double l0 = lam_lo > 0 ? lam_lo : 0.0, gap = r_hi - l0;
+    const double w = std::sqrt((gap > 0 ? gap : 0.0) * (r_hi + l0)) * up + 0x1p-500;
+    const double half = w + e_t, lo = ts - half, hi = ts + half;
+    const double enter = lo > double(r.t_min) ? lo : double(r.t_min), exit = hi < double(r.t_max) ? hi : double(r.t_max);
+    Hit<T> h;
+    if (int(lam_lo <= r_hi) & int(enter <= exit)) {
+        h.verdict = Verdict::hit;
+        h.t_enter = round_down_to<T>(enter);
+        h.t_exit = round_up_to<T>(exit);
+    }
+    return h;
+}
+
 template <class R, class T>
     requires RayOrPrepared<R, T>
 RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, conservative_t) {
     if (!p.ok || !valid(ray)) return invalid_hit<T>();
-    return sphere_conservative_general(ray_of(ray), p.shape);
+    const Ray<T>& r = ray_of(ray);
+    return common_or_fallback(sphere_conservative_common(r, p.shape), [&] { return sphere_conservative_general(r, p.shape); });
 }
 
 template <class R, class T>
