@@ -8,7 +8,8 @@
 //   bvh-spheres N                 the set's size; bvh-rays-SET, bvh-judged-SET likewise
 //   bvh-rate-SET-METHOD R         rays per second, one thread: the median over the
 //                                 repetitions of rays / (CPU time of a pass over the set)
-//   bvh-build-s-METHOD S          the build, wall seconds, one thread
+//   bvh-build-s-METHOD S          the build, wall seconds, one thread (METHOD here:
+//                                 rayproof, rayproof_double, embree, embree_robust)
 //   bvh-bytes-METHOD B            what the structure holds after the build (rayproof:
 //                                 BvhStats::bytes; Embree: its device's memory monitor)
 //   bvh-bytes-items-METHOD B      of those, the copies of the balls themselves (rayproof:
@@ -21,8 +22,9 @@
 //   bvh-falsehit-SET-METHOD F     of those, a hit where the reference misses
 //   bvh-brute-rate-SET R          the brute-force certified loop's rays per second
 //
-// METHOD: fast, conservative, certified (rayproof::Bvh<float, 8>), embree,
-// embree_robust; SET: camera, grazing (bvh_scenes.hpp). The repetitions run the methods
+// METHOD: fast, conservative, certified (rayproof::Bvh<float, 8>), fast_double,
+// conservative_double, certified_double (rayproof::Bvh<double, 8> over the same balls,
+// widened exactly; judged by verdict and ball), embree, embree_robust; SET: camera, grazing (bvh_scenes.hpp). The repetitions run the methods
 // in turn within each repetition, so that a change of load on a shared machine spreads
 // over all of them. Exit status 3 when the certified BVH differs from the brute-force
 // loop on some judged ray (each such ray is named on stderr with the seed).
@@ -168,6 +170,36 @@ int main(int argc, char** argv) {
     add_mode("fast", fast, false);
     add_mode("conservative", conservative, false);
     add_mode("certified", certified, true);
+
+    // The same balls and rays in a double tree (the tracer's Bvh<double, 8>): float
+    // widens to double exactly, so the exact answers are the float tree's; judged by
+    // verdict and ball.
+    std::vector<Primitive<double>> dprims;
+    dprims.reserve(balls.size());
+    for (const Sphere<float>& b : balls) dprims.push_back(Sphere<double>{b.center.cast<double>(), double(b.radius)});
+    const auto td = std::chrono::steady_clock::now();
+    const Bvh<double, 8> dbvh{std::span<const Primitive<double>>(dprims)};
+    built("rayproof_double", std::chrono::duration<double>(std::chrono::steady_clock::now() - td).count(),
+          dbvh.stats().bytes, sizeof(Primitive<double>));
+    const auto widen = [](const Ray<float>& r) {
+        return Ray<double>{r.origin.cast<double>(), r.direction.cast<double>(), double(r.t_min), double(r.t_max)};
+    };
+    const auto add_double_mode = [&](const std::string& name, auto mode) {
+        methods.push_back(Method{
+            name + "_double", false,
+            [&dbvh, mode, widen](const Ray<float>& r) {
+                const ClosestHit<double> c = dbvh.closest_hit(PreparedRay<double>(widen(r)), mode);
+                return Answer{bool(c), c.index, {}};
+            },
+            [&dbvh, mode, widen](const std::vector<Ray<float>>& rs) {
+                std::int64_t sum = 0;
+                for (const Ray<float>& r : rs) sum += dbvh.closest_hit(PreparedRay<double>(widen(r)), mode).index;
+                return sum;
+            }});
+    };
+    add_double_mode("fast", fast);
+    add_double_mode("conservative", conservative);
+    add_double_mode("certified", certified);
 
 #if RAYPROOF_BENCH_HAVE_EMBREE
     std::vector<std::unique_ptr<bench::EmbreeBallScene>> embree;

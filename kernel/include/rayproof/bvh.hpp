@@ -244,9 +244,21 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_conservative(const PreparedRay<T>&
             return mask;
         }
     }
-    const packet::Filtered<double, B, T, W> f = packet::filter<double, B, true>(pr, b);
-    mask = (f.ok & f.finite & (f.e_lo <= f.x_hi)).bits();
-    f.e_lo.store(t);
+    // Double (and float trees whose reciprocals are not normal floats): the certified
+    // packet's double filter, bounded once at the largest computed entry m and smallest
+    // computed exit M_. Both ends of an enclosure increase with the value bounded
+    // (ray_aabb_packet.hpp), so max(t_min, lo(m)) is the largest of the per-axis lower
+    // entry bounds and min(t_max, hi(M_)) the smallest of the upper exit bounds: on the
+    // lanes with every value finite, the conservative packet's very decisions and entry
+    // bounds, with two enclosures per lane instead of six.
+    using V = simd::Vec<double, W, B>;
+    const packet::Filtered<double, B, T, W> f = packet::filter<double, B, false>(pr, b);
+    const V K = V::splat(packet::Bound<double>::K), eta = V::splat(packet::Bound<double>::eta);
+    const V bm = abs(f.m) * K + eta, bM = abs(f.M_) * K + eta;
+    const V e_lo = max(f.m - bm, V::splat(double(pr.ray().t_min))),
+            x_hi = min(f.M_ + bM, V::splat(double(pr.ray().t_max)));
+    mask = (f.ok & f.finite & (e_lo <= x_hi)).bits();
+    e_lo.store(t);
     for (std::uint32_t u = simd::and_not(f.ok, f.finite).bits(); u != 0; u &= u - 1) {
         const int i = std::countr_zero(u);
         const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
@@ -419,7 +431,8 @@ private:
     static RAYPROOF_ALWAYS_INLINE std::uint32_t node_test(const PreparedRay<T>& r, const Node& n, Mode,
                                                           double (&t)[std::size_t(W)]) noexcept {
         if constexpr (std::is_same_v<Mode, fast_t>) {
-            const PacketHit<T, W> h = rayproof::intersect(r, n.box, fast);
+            // The public fast packet query, inlined (its face codes are not read).
+            const PacketHit<T, W> h = detail::packet::fast<detail::simd::native, true>(r, n.box);
             for (int i = 0; i < W; ++i) t[i] = double(h.t_enter[i]);
             return h.mask;
         } else {
@@ -429,6 +442,14 @@ private:
             for (int i = 0; i < W; ++i) t[i] = double(h.t_enter[i]);
             return h.mask;
         }
+    }
+
+    // A hint to load a node's cache lines (no effect on any answer).
+    static RAYPROOF_ALWAYS_INLINE void prefetch([[maybe_unused]] const Node& n) noexcept {
+#if defined(__GNUC__) || defined(__clang__)
+        const char* p = reinterpret_cast<const char*>(&n);
+        for (std::size_t k = 0; k < sizeof(Node); k += 64) __builtin_prefetch(p + k);
+#endif
     }
 
     struct Entry {
@@ -484,7 +505,11 @@ private:
                 for (; j > 0 && hits[j - 1].t < c.t; --j) hits[j] = hits[j - 1];
                 hits[j] = c;
             }
-            for (int j = 0; j < m; ++j) stack[sp++] = hits[j];
+            for (int j = 0; j < m; ++j) {
+                // The inner children's nodes are fetched while the nearest is answered.
+                if (hits[j].count == 0) prefetch(nodes_[hits[j].first]);
+                stack[sp++] = hits[j];
+            }
         }
     }
 
