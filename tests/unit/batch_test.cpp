@@ -8,9 +8,13 @@
 // them). An invalid shape makes every element invalid; a size mismatch is refused with
 // std::invalid_argument.
 #include "same_hit.hpp"
+#include <rayproof/detail/ray_aabb_batch.hpp>
 #include "unit_support.hpp"
 
+#include <algorithm>
+#include <bit>
 #include <cstring>
+#include <limits>
 #include <random>
 #include <type_traits>
 #include <vector>
@@ -110,4 +114,156 @@ TYPED_TEST(Batch, InvalidShapeMakesEveryElementInvalid) {
     for (const Hit<T>& h : out) EXPECT_EQ(h.verdict, Verdict::invalid);
     std::vector<Hit<T>> none;
     intersect(std::span<const Ray<T>>(), Aabb<T>{v<T>(0, 0, 0), v<T>(1, 1, 1)}, fast, std::span<Hit<T>>(none));
+}
+
+// --- The lane path (detail/ray_aabb_batch.hpp) -------------------------------------------
+// The certified Aabb batch runs W rays at a time in SIMD lanes and must give
+// every ray the scalar certified answer bit for bit, in both backends (simd::portable and
+// simd::native), for Ray and PreparedRay spans, intersect and verdict, for every batch
+// size around the block width (0, 1, W - 1, W, W + 1, ...) and with each special ray
+// (invalid, ±0, huge and tiny direction components, non-finite, ties, ranges ending on
+// the box) at every lane position of a block.
+namespace {
+
+namespace simd = rayproof::detail::simd;
+
+template <class T> std::vector<Ray<T>> special_rays() {
+    const T inf = std::numeric_limits<T>::infinity(), nan = std::numeric_limits<T>::quiet_NaN();
+    const T big = std::numeric_limits<T>::max() / 4, tiny = std::numeric_limits<T>::denorm_min();
+    std::vector<Ray<T>> s;
+    const auto add = [&](Vec3<T> o, Vec3<T> d, T t0 = 0, T t1 = std::numeric_limits<T>::infinity()) {
+        s.push_back(Ray<T>{o, d, t0, t1});
+    };
+    add(v<T>(-3, 0.25, 0.5), v<T>(1, 0, 0));                  // parallel to two slabs
+    add(v<T>(-3, 1, 0.5), v<T>(1, -T(0), T(0)));              // on a slab plane, -0
+    add(v<T>(-3, -3, -3), v<T>(1, 1, 1));                     // through a corner
+    add(v<T>(-3, -1, 0), v<T>(1, 0, 0));                      // along a face
+    add(v<T>(-3, 0, 0), v<T>(1, 0, 0), T(2), T(2));           // t range a point, on the face
+    add(v<T>(-3, 0.1f, 0.2f), v<T>(1, 0.01f, 0.02f), T(0), T(2));  // range ends at the entry
+    add(v<T>(-3, 0.1f, 0.2f), v<T>(1, 0.01f, 0.02f), T(4), T(9));  // range starts at the exit
+    add(v<T>(0, 0, 0), v<T>(0, 0, 0));                        // zero direction: invalid
+    add(v<T>(nan, 0, 0), v<T>(1, 1, 1));                      // NaN origin
+    add(v<T>(0, 0, 0), v<T>(inf, 1, 1));                      // infinite direction
+    add(v<T>(0, 0, 0), v<T>(1, 1, 1), T(2), T(1));            // empty range: invalid
+    add(v<T>(0, 0, 0), v<T>(1, 1, 1), -inf, inf);             // whole line
+    add(v<T>(-3, 0.5, 0.5), v<T>(big, 1, 1));                 // huge direction component
+    add(v<T>(-3, 0.5, 0.5), v<T>(1, tiny, tiny));             // subnormal components
+    add(v<T>(-3, 0.5, 0.5), v<T>(T(1e-30), T(1e-30), T(-1e-30)));  // tiny direction
+    add(v<T>(big, big, big), v<T>(-1, -1, -1));               // far origin, values overflow
+    add(v<T>(0.5, 0.5, 0.5), v<T>(-1, 2, -3));                // origin inside
+    add(v<T>(2, 2, 2), v<T>(1, 1, 1));                        // moving away
+    add(v<T>(-1, -1, -1), v<T>(1, 2, 3), -inf, T(0));         // starts on a corner, range to it
+    return s;
+}
+
+// The rays of rays() with every other one aimed at a point of the box [-0.9, 0.9]^3 (a
+// hit of the unit box, decided in lanes with its winners rounded there), and the special
+// ones placed in turn at every position of the first blocks.
+template <class T> std::vector<Ray<T>> lane_rays(std::uint64_t seed, std::size_t n, std::size_t special_at) {
+    std::vector<Ray<T>> out = rays<T>(seed, n);
+    std::mt19937_64 rng(seed + 1000);
+    std::uniform_real_distribution<double> u(-0.9, 0.9);
+    for (std::size_t i = 1; i < out.size(); i += 2) {
+        const Vec3<T> target(T(u(rng)), T(u(rng)), T(u(rng)));
+        out[i].direction = target - out[i].origin;
+    }
+    const std::vector<Ray<T>> s = special_rays<T>();
+    for (std::size_t k = 0; k < s.size(); ++k) {
+        const std::size_t at = special_at + 3 * k;
+        if (at < out.size()) out[at] = s[k];
+    }
+    return out;
+}
+
+template <class T> void expect_same(const Hit<T>& a, const Hit<T>& b, std::size_t i) {
+    ASSERT_EQ(a.verdict, b.verdict) << "element " << i << ": " << a << " vs scalar " << b;
+    ASSERT_TRUE(same_bits(a.t_enter, b.t_enter)) << "element " << i << ": " << a << " vs scalar " << b;
+    ASSERT_TRUE(same_bits(a.t_exit, b.t_exit)) << "element " << i << ": " << a << " vs scalar " << b;
+    ASSERT_EQ(a.face, b.face) << "element " << i;
+}
+
+// The lane batch of backend B against the scalar certified query, element by element.
+template <class B, class R, class T, class Shape>
+void check_lanes(const std::vector<Ray<T>>& in, const Shape& s) {
+    std::vector<R> rs;
+    for (const Ray<T>& r : in) rs.push_back(R(r));
+    const auto prepared = detail::prepare(s);
+    std::vector<Hit<T>> hits(rs.size());
+    std::vector<Verdict> verdicts(rs.size());
+    detail::batch::aabb_certified<B>(std::span<const R>(rs), prepared, std::span<Hit<T>>(hits));
+    detail::batch::aabb_certified<B>(std::span<const R>(rs), prepared, std::span<Verdict>(verdicts));
+    for (std::size_t i = 0; i < rs.size(); ++i) {
+        SCOPED_TRACE(::testing::Message() << (std::is_same_v<B, simd::portable> ? "portable " : "native ")
+                                          << (detail::is_prepared_ray_v<R> ? "prepared " : "ray ") << in[i]);
+        const Hit<T> h = intersect(rs[i], s, certified);
+        expect_same(hits[i], h, i);
+        ASSERT_EQ(verdicts[i], verdict(rs[i], s, certified)) << "element " << i;
+        ASSERT_EQ(verdicts[i], h.verdict) << "element " << i;
+    }
+}
+
+template <class T, class Shape> void check_all_forms(const std::vector<Ray<T>>& in, const Shape& s) {
+    check_lanes<simd::portable, Ray<T>>(in, s);
+    check_lanes<simd::native, Ray<T>>(in, s);
+    check_lanes<simd::portable, PreparedRay<T>>(in, s);
+    check_lanes<simd::native, PreparedRay<T>>(in, s);
+    // And the public batch form (the native lanes inside batch_of where it takes them).
+    std::vector<Hit<T>> out(in.size());
+    intersect(std::span<const Ray<T>>(in), s, certified, std::span<Hit<T>>(out));
+    for (std::size_t i = 0; i < in.size(); ++i) expect_same(out[i], intersect(in[i], s, certified), i);
+}
+
+template <class T> std::vector<Aabb<T>> lane_boxes() {
+    return {Aabb<T>{v<T>(-1, -1, -1), v<T>(1, 1, 1)}, Aabb<T>{v<T>(-0.3f, 0.1f, -2), v<T>(0.7f, 0.1f, 1.5f)},  // flat
+            Aabb<T>{v<T>(1e-3f, 2e-3f, -1e-3f), v<T>(3e-3f, 5e-3f, 1e-3f)}, Aabb<T>{v<T>(-1e6f, -1e6f, -1e6f), v<T>(1e6f, 1e6f, 1e6f)}};
+}
+}  // namespace
+
+TYPED_TEST(Batch, AabbLanesEqualScalarBitForBit) {
+    using T = TypeParam;
+    const std::size_t W = detail::batch::kAabbLanes;
+    for (const Aabb<T>& b : lane_boxes<T>())
+        for (std::size_t at = 0; at < W; ++at) check_all_forms(lane_rays<T>(11 + at, 96, at), b);
+}
+
+TYPED_TEST(Batch, AabbLanesEveryBatchSize) {
+    using T = TypeParam;
+    const std::size_t W = detail::batch::kAabbLanes;
+    const Aabb<T> b{v<T>(-1, -1, -1), v<T>(1, 1, 1)};
+    for (std::size_t n : {std::size_t(0), std::size_t(1), W - 1, W, W + 1, 2 * W - 1, 2 * W + 1, 5 * W + 3})
+        check_all_forms(lane_rays<T>(n, n, 0), b);
+    // An invalid box: every element invalid, none through the lanes.
+    check_all_forms(rays<T>(5, 2 * W + 1), Aabb<T>{v<T>(1, 0, 0), v<T>(0, 1, 1)});
+}
+
+// The lanes decide the common case themselves: on uniform rays nearly every lane is
+// answered in lanes (the rest goes to the scalar query), in both backends. A lane path
+// that declined everything would still equal the scalar answers; this catches it.
+template <class B, class T> void expect_lanes_decide() {
+    const std::size_t W = detail::batch::kAabbLanes;
+    const std::vector<Ray<T>> in = rays<T>(99, 400);
+    const Aabb<T> box{v<T>(-1, -1, -1), v<T>(1, 1, 1)};
+    std::size_t box_lanes = 0, box_hits = 0, scalar_hits = 0;
+    for (std::size_t k = 0; k + W <= in.size(); k += W) {
+        for (std::size_t i = 0; i < W; ++i) scalar_hits += intersect(in[k + i], box, certified).verdict == Verdict::hit;
+        detail::batch::AabbBlock<detail::batch::kAabbLanes> g;
+        detail::batch::gather<Ray<T>, T>(in.data() + k, g);
+        detail::batch::AabbDecided<detail::batch::kAabbLanes> d;
+        detail::batch::aabb_block<B, true>(g, false, box, d);
+        box_lanes += std::size_t(std::popcount(d.decided));
+        box_hits += std::size_t(std::popcount(d.decided & d.hit));
+    }
+    // rays() makes 40% of its rays special (parallel, corner, invalid); of the other 60%
+    // nearly all are decided, and so are most hits (the corner rays are hits left to the
+    // scalar query: a tie of three axes).
+    EXPECT_GE(box_lanes, in.size() / 2);
+    EXPECT_GT(box_hits, 0u);
+    EXPECT_GE(2 * box_hits, scalar_hits - std::size_t(std::count_if(in.begin(), in.end(), [](const Ray<T>& r) {
+        return r.origin == Vec3<T>(-3, -3, -3);
+    })));
+}
+
+TYPED_TEST(Batch, LanesDecideTheCommonCase) {
+    expect_lanes_decide<simd::portable, TypeParam>();
+    expect_lanes_decide<simd::native, TypeParam>();
 }

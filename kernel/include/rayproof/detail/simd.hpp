@@ -1,5 +1,6 @@
 // rayproof/detail/simd.hpp — a small fixed-width vector of W floats or doubles for the
-// box packets (ray_aabb_packet.hpp), in two backends with one interface:
+// box packets (ray_aabb_packet.hpp) and the certified box batch (ray_aabb_batch.hpp), in
+// two backends with one interface:
 //   portable — plain arrays, one scalar operation per lane; always compiled;
 //   native   — SSE2 registers (double×2, float×4) on x86-64, AVX2 registers (double×4,
 //              float×8) where the compiler targets AVX2 (__AVX2__); a vector of W lanes
@@ -10,7 +11,9 @@
 // Each operation is the correctly rounded IEEE operation in each lane, so both backends
 // compute the same bits from the same operands. min and max follow the SSE rule in both:
 // min(a, b) = a < b ? a : b, max(a, b) = a > b ? a : b (a NaN in either operand gives
-// b, and of two zeros b). Comparisons are ordered (false on a NaN) and give a Mask, whose
+// b, and of two zeros b); division is the correctly rounded one too, negation (unary -)
+// flips the sign bit exactly, and high26 cuts a double's significand to its leading 26
+// bits (lanes::high26). Comparisons are ordered (false on a NaN) and give a Mask, whose
 // bits() has bit i for lane i. rounded(v) is the barrier against contraction of
 // detail/eft.hpp (class C3) for a whole vector: an empty asm statement on each register.
 // Contraction: a compiler may fuse a product into a later sum in either backend (g++
@@ -21,6 +24,7 @@
 #include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/float_util.hpp>
 
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -55,6 +59,14 @@ template <class T> struct Chunk<T, 1> {
     static reg add(reg a, reg b) { return a + b; }
     static reg sub(reg a, reg b) { return a - b; }
     static reg mul(reg a, reg b) { return a * b; }
+    static reg div(reg a, reg b) { return a / b; }
+    static reg neg(reg a) { return -a; }
+    static reg high26(reg a) {
+        if constexpr (std::is_same_v<T, double>)
+            return std::bit_cast<double>(std::bit_cast<std::uint64_t>(a) & ~std::uint64_t(0x7ffffff));
+        else
+            return a;
+    }
     static reg min(reg a, reg b) { return a < b ? a : b; }
     static reg max(reg a, reg b) { return a > b ? a : b; }
     static reg abs(reg a) { return std::fabs(a); }
@@ -84,6 +96,9 @@ template <> struct Chunk<double, 2> {
     static reg add(reg a, reg b) { return _mm_add_pd(a, b); }
     static reg sub(reg a, reg b) { return _mm_sub_pd(a, b); }
     static reg mul(reg a, reg b) { return _mm_mul_pd(a, b); }
+    static reg div(reg a, reg b) { return _mm_div_pd(a, b); }
+    static reg neg(reg a) { return _mm_xor_pd(a, _mm_set1_pd(-0.0)); }
+    static reg high26(reg a) { return _mm_and_pd(a, _mm_castsi128_pd(_mm_set1_epi64x(~std::int64_t(0x7ffffff)))); }
     static reg min(reg a, reg b) { return _mm_min_pd(a, b); }
     static reg max(reg a, reg b) { return _mm_max_pd(a, b); }
     static reg abs(reg a) { return _mm_andnot_pd(_mm_set1_pd(-0.0), a); }
@@ -113,6 +128,8 @@ template <> struct Chunk<float, 4> {
     static reg add(reg a, reg b) { return _mm_add_ps(a, b); }
     static reg sub(reg a, reg b) { return _mm_sub_ps(a, b); }
     static reg mul(reg a, reg b) { return _mm_mul_ps(a, b); }
+    static reg div(reg a, reg b) { return _mm_div_ps(a, b); }
+    static reg neg(reg a) { return _mm_xor_ps(a, _mm_set1_ps(-0.0f)); }
     static reg min(reg a, reg b) { return _mm_min_ps(a, b); }
     static reg max(reg a, reg b) { return _mm_max_ps(a, b); }
     static reg abs(reg a) { return _mm_andnot_ps(_mm_set1_ps(-0.0f), a); }
@@ -146,6 +163,11 @@ template <> struct Chunk<double, 4> {
     static reg add(reg a, reg b) { return _mm256_add_pd(a, b); }
     static reg sub(reg a, reg b) { return _mm256_sub_pd(a, b); }
     static reg mul(reg a, reg b) { return _mm256_mul_pd(a, b); }
+    static reg div(reg a, reg b) { return _mm256_div_pd(a, b); }
+    static reg neg(reg a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
+    static reg high26(reg a) {
+        return _mm256_and_pd(a, _mm256_castsi256_pd(_mm256_set1_epi64x(~std::int64_t(0x7ffffff))));
+    }
     static reg min(reg a, reg b) { return _mm256_min_pd(a, b); }
     static reg max(reg a, reg b) { return _mm256_max_pd(a, b); }
     static reg abs(reg a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
@@ -173,6 +195,8 @@ template <> struct Chunk<float, 8> {
     static reg add(reg a, reg b) { return _mm256_add_ps(a, b); }
     static reg sub(reg a, reg b) { return _mm256_sub_ps(a, b); }
     static reg mul(reg a, reg b) { return _mm256_mul_ps(a, b); }
+    static reg div(reg a, reg b) { return _mm256_div_ps(a, b); }
+    static reg neg(reg a) { return _mm256_xor_ps(a, _mm256_set1_ps(-0.0f)); }
     static reg min(reg a, reg b) { return _mm256_min_ps(a, b); }
     static reg max(reg a, reg b) { return _mm256_max_ps(a, b); }
     static reg abs(reg a) { return _mm256_andnot_ps(_mm256_set1_ps(-0.0f), a); }
@@ -282,6 +306,7 @@ template <class T, int W, class B> struct Mask {
 RAYPROOF_SIMD_BINARY(operator+, Vec, add)
 RAYPROOF_SIMD_BINARY(operator-, Vec, sub)
 RAYPROOF_SIMD_BINARY(operator*, Vec, mul)
+RAYPROOF_SIMD_BINARY(operator/, Vec, div)
 RAYPROOF_SIMD_BINARY(min, Vec, min)
 RAYPROOF_SIMD_BINARY(max, Vec, max)
 RAYPROOF_SIMD_BINARY(operator<, Mask, lt)
@@ -310,6 +335,20 @@ template <class T, int W, class B> RAYPROOF_ALWAYS_INLINE Vec<T, W, B> abs(const
     using C = typename Vec<T, W, B>::C;
     Vec<T, W, B> v;
     for (int k = 0; k < Vec<T, W, B>::n; ++k) v.r[k] = C::abs(a.r[k]);
+    return v;
+}
+// Negation (exact: the sign bit flipped, zeros and NaNs included).
+template <class T, int W, class B> RAYPROOF_ALWAYS_INLINE Vec<T, W, B> operator-(const Vec<T, W, B>& a) {
+    using C = typename Vec<T, W, B>::C;
+    Vec<T, W, B> v;
+    for (int k = 0; k < Vec<T, W, B>::n; ++k) v.r[k] = C::neg(a.r[k]);
+    return v;
+}
+// The significand cut to its leading 26 bits (lanes::high26, for doubles), per lane.
+template <int W, class B> RAYPROOF_ALWAYS_INLINE Vec<double, W, B> high26(const Vec<double, W, B>& a) {
+    using C = typename Vec<double, W, B>::C;
+    Vec<double, W, B> v;
+    for (int k = 0; k < Vec<double, W, B>::n; ++k) v.r[k] = C::high26(a.r[k]);
     return v;
 }
 template <class T, int W, class B> RAYPROOF_ALWAYS_INLINE Vec<T, W, B> rounded(const Vec<T, W, B>& a) {
