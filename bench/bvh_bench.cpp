@@ -96,6 +96,7 @@ struct Options {
     std::size_t spheres = 100000, rays = 100000, judge = 2000;
     std::uint64_t seed = 1;
     int repetitions = 5;
+    int leaf_size = rayproof::BvhOptions{}.leaf_size;
     std::string output;
 };
 
@@ -111,6 +112,8 @@ int main(int argc, char** argv) {
     app.add_option("--seed", o.seed, "the scene's and the rays' seed")->check(rayproof::cli::non_negative);
     app.add_option("--repetitions", o.repetitions, "timed passes per method and set (the median is reported)")
         ->check(CLI::Range(1, 1000));
+    app.add_option("--leaf-size", o.leaf_size, "the most balls in one leaf of both trees (BvhOptions::leaf_size)")
+        ->check(CLI::Range(1, 255));
     app.add_option("-o,--output", o.output, "write the KEY VALUE lines here (default: stdout)");
     if (const auto stop = rayproof::cli::parse(app, argc, argv)) return *stop;
     o.judge = std::min(o.judge, o.rays);
@@ -151,7 +154,7 @@ int main(int argc, char** argv) {
     };
 
     const auto t0 = std::chrono::steady_clock::now();
-    const Bvh<float, 8> bvh{std::span<const Primitive<float>>(prims)};
+    const Bvh<float, 8> bvh{std::span<const Primitive<float>>(prims), BvhOptions{o.leaf_size, BvhOptions{}.bins}};
     built("rayproof", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), bvh.stats().bytes,
           sizeof(Primitive<float>));
     const auto add_mode = [&](const std::string& name, auto mode, bool exact) {
@@ -178,7 +181,7 @@ int main(int argc, char** argv) {
     dprims.reserve(balls.size());
     for (const Sphere<float>& b : balls) dprims.push_back(Sphere<double>{b.center.cast<double>(), double(b.radius)});
     const auto td = std::chrono::steady_clock::now();
-    const Bvh<double, 8> dbvh{std::span<const Primitive<double>>(dprims)};
+    const Bvh<double, 8> dbvh{std::span<const Primitive<double>>(dprims), BvhOptions{o.leaf_size, BvhOptions{}.bins}};
     built("rayproof_double", std::chrono::duration<double>(std::chrono::steady_clock::now() - td).count(),
           dbvh.stats().bytes, sizeof(Primitive<double>));
     const auto widen = [](const Ray<float>& r) {
