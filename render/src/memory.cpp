@@ -136,14 +136,14 @@ MemoryNeed scene_text_need(std::string_view text) {
 // lights' spheres): while it is built, the tracer's list of primitives and the Bvh's copy
 // of it, the build's scratch (a box, a centroid and an index per primitive, 80 bytes),
 // the index arrays (4 and 8 bytes per primitive at most), and its nodes. A node covers
-// more than leaf_size = 4 primitives and has at least two lanes, so there are fewer
+// more than leaf_size = 1 primitive and has at least two lanes, so there are fewer
 // nodes than primitives; the tree the binned SAH builds has far fewer (one node per
-// 12.7 primitives measured on 2,000 and 100,000 generated objects), and the estimate
-// takes one per 4 primitives, three times over for the vector's growth (up to twice its
-// size) and its final shrink (one more copy).
+// about 3 primitives measured on 100,000 generated balls), and the estimate takes one
+// per 2 primitives, three times over for the vector's growth (up to twice its size) and
+// its final shrink (one more copy).
 std::uint64_t bvh_need(std::uint64_t primitives) {
     const std::uint64_t per_primitive = 2 * sizeof(Primitive<double>) + 9 * sizeof(double) + 8 + 4 + 8;
-    const std::uint64_t nodes = primitives / 4 + 1;
+    const std::uint64_t nodes = primitives / 2 + 1;
     return sat_add(sat_mul(primitives, per_primitive), sat_mul(sat_mul(nodes, 3), sizeof(detail::BvhNode<double, 8>)));
 }
 

@@ -121,7 +121,7 @@ namespace rayproof {
 // leaf_size: the most primitives in one leaf (clamped to [1, 255]); bins: the SAH bins
 // per axis (clamped to [2, 256]).
 struct BvhOptions {
-    int leaf_size = 4;
+    int leaf_size = 1;
     int bins = 16;
 };
 
