@@ -68,11 +68,11 @@ template <class V> RAYPROOF_ALWAYS_INLINE auto in_correction_range(const V& m, c
 
 // The block's rays gathered into lanes: origin, direction, reciprocal, t_min, -t_max.
 template <int W> struct AabbBlock {
-    alignas(32) double o[3][W];
-    alignas(32) double d[3][W];
-    alignas(32) double inv[3][W];
-    alignas(32) double t_min[W];
-    alignas(32) double t_max[W];
+    alignas(32) double o[3][std::size_t(W)];
+    alignas(32) double d[3][std::size_t(W)];
+    alignas(32) double inv[3][std::size_t(W)];
+    alignas(32) double t_min[std::size_t(W)];
+    alignas(32) double t_max[std::size_t(W)];
 };
 
 template <class R, class T, int W> RAYPROOF_ALWAYS_INLINE void gather(const R* rays, AabbBlock<W>& g) {
@@ -92,9 +92,9 @@ template <class R, class T, int W> RAYPROOF_ALWAYS_INLINE void gather(const R* r
 // the fields (in double, before faithful_to) and the face.
 template <int W> struct AabbDecided {
     std::uint32_t decided, hit;
-    alignas(32) double t_enter[W];
-    alignas(32) double t_exit[W];
-    int face[W];
+    alignas(32) double t_enter[std::size_t(W)];
+    alignas(32) double t_exit[std::size_t(W)];
+    int face[std::size_t(W)];
 };
 
 // Full: the winners and their values too (the verdict query needs only the proofs).
