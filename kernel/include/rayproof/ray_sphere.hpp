@@ -71,6 +71,7 @@
 #pragma once
 
 #include <rayproof/detail/certified.hpp>
+#include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/interval.hpp>
 #include <rayproof/detail/prepared.hpp>
@@ -257,9 +258,11 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_conservative_gener
 //     and root (one more) are at least (1 - 2.6u)·sqrt(R_hi² - λ_lo'²), less 2^-537 for
 //     an underflowed radicand (at most 2^-1075 off); the factor and the sum round twice
 //     more, and (1 - 2.6u)(1 + 8u)(1 - 2u)(1 - 2u) > 1, 2^-500·(1 - 3u) > 2^-537.
-// Contraction (detail/eft.hpp): class C1. A fused product-sum has one rounding fewer
-// than counted (the |products| summed for Sb~ and P~ are the rounded ones, within u of
-// the exact ones' magnitudes, which the factors above allow).
+// Contraction (detail/eft.hpp): the bounds are class C1 (a fused product-sum has one
+// rounding fewer than counted, and the |products| summed for Sb~ and P~ are the rounded
+// ones, within u of the exact ones' magnitudes, which the factors above allow); the
+// products are nonetheless rounded() (class C3), because the batch form and the single
+// query must give the same bits wherever the compiler inlines them.
 // Range: every finite float input passes (|Δ|, |d|, r <= 2^129, a >= 2^-298). For
 // double, a~ outside [2^-400, 2^1000] (|d| tiny or huge) or any of E1, eλ, λ~, R~ not
 // finite (an overflow) goes to sphere_conservative_general, out of line.
@@ -275,25 +278,29 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_conservative_gener
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ray<T>& r, const Sphere<T>& s) {
     constexpr double u = unit_roundoff<double>, c_t = 12 * u, c_l = 14 * u, up = 1 + 8 * u;
+    // Every product that a sum or difference takes goes through rounded(), so that no
+    // compiler fuses it: the bounds hold fused or not (class C1), and rounded() makes the
+    // answer the same bits wherever the query is inlined (a batch loop or a single call).
+    const auto mul = [](double x, double y) RAYPROOF_INLINE_LAMBDA { return rounded(x * y); };
     const double d0 = r.direction[0], d1 = r.direction[1], d2 = r.direction[2];
     const double e0 = double(r.origin[0]) - double(s.center[0]), e1 = double(r.origin[1]) - double(s.center[1]),
                  e2 = double(r.origin[2]) - double(s.center[2]);
-    const double a = (d0 * d0 + d1 * d1) + d2 * d2;
-    const double b0 = d0 * e0, b1 = d1 * e1, b2 = d2 * e2;
+    const double a = (mul(d0, d0) + mul(d1, d1)) + mul(d2, d2);
+    const double b0 = mul(d0, e0), b1 = mul(d1, e1), b2 = mul(d2, e2);
     const double b = (b0 + b1) + b2, sb = (std::abs(b0) + std::abs(b1)) + std::abs(b2);
-    const double x0 = e1 * d2, x1 = e2 * d1, y0 = e2 * d0, y1 = e0 * d2, z0 = e0 * d1, z1 = e1 * d0;
+    const double x0 = mul(e1, d2), x1 = mul(e2, d1), y0 = mul(e2, d0), y1 = mul(e0, d2), z0 = mul(e0, d1), z1 = mul(e1, d0);
     const double cx = x0 - x1, cy = y0 - y1, cz = z0 - z1;
     const double pm = ((std::abs(x0) + std::abs(x1)) + (std::abs(y0) + std::abs(y1))) + (std::abs(z0) + std::abs(z1));
-    const double n = std::sqrt((cx * cx + cy * cy) + cz * cz);
+    const double n = std::sqrt((mul(cx, cx) + mul(cy, cy)) + mul(cz, cz));
     const double inv = 1 / a;
-    const double ts = -b * inv, lam = n * inv, rr = double(s.radius) * std::sqrt(inv);
-    const double e_t = c_t * (sb * inv) + 0x1p-600, e_l = c_l * (pm * inv) + 0x1p-600;
+    const double ts = mul(-b, inv), lam = mul(n, inv), rr = mul(double(s.radius), std::sqrt(inv));
+    const double e_t = mul(c_t, sb * inv) + 0x1p-600, e_l = mul(c_l, pm * inv) + 0x1p-600;
     const bool ok = int(a >= 0x1p-400) & int(a <= 0x1p1000) & int(e_t + e_l + lam + rr < inf<double>);
     if (!ok) [[unlikely]]
         return std::nullopt;
-    const double lam_lo = lam - e_l, r_hi = rr * up + 0x1p-600;
+    const double lam_lo = lam - e_l, r_hi = mul(rr, up) + 0x1p-600;
     const double l0 = lam_lo > 0 ? lam_lo : 0.0, gap = r_hi - l0;
-    const double w = std::sqrt((gap > 0 ? gap : 0.0) * (r_hi + l0)) * up + 0x1p-500;
+    const double w = mul(std::sqrt((gap > 0 ? gap : 0.0) * (r_hi + l0)), up) + 0x1p-500;
     const double half = w + e_t, lo = ts - half, hi = ts + half;
     const double enter = lo > double(r.t_min) ? lo : double(r.t_min), exit = hi < double(r.t_max) ? hi : double(r.t_max);
     Hit<T> h;
