@@ -196,6 +196,41 @@ template <class T> std::optional<Aabb<T>> bvh_box(const Primitive<T>& p) {
     return b;
 }
 
+// The certified packet's filter in E (float or double, ray_aabb_packet.hpp), bounded once
+// at the largest computed entry m and the smallest computed exit M: its enclosures
+// [max(t_min, lo(m)), max(t_min, hi(m))] of the exact latest entry and [min(t_max,
+// lo(M)), min(t_max, hi(M))] of the exact earliest exit leave a lane a possible hit unless
+// the exit's upper end lies below the entry's lower end (the certified filter's proven
+// miss): the same expressions, so the same guarantee. Both ends of an enclosure increase
+// with the value bounded, so max(t_min, lo(m)) is the largest of the per-axis lower entry
+// bounds and min(t_max, hi(M)) the smallest of the upper exit bounds: on the lanes with
+// every value finite, the conservative packet's very decisions and entry bounds, with two
+// enclosures per lane instead of six. Overflowing lanes take the scalar query.
+template <class E, class B, class T, int W>
+RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_filter(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
+                                                     double (&t)[std::size_t(W)]) noexcept {
+    using V = simd::Vec<E, W, B>;
+    const packet::Filtered<E, B, T, W> f = packet::filter<E, B, false>(pr, b);
+    const V K = V::splat(packet::Bound<E>::K), eta = V::splat(packet::Bound<E>::eta);
+    const V bm = abs(f.m) * K + eta, bM = abs(f.M_) * K + eta;
+    const V e_lo = max(f.m - bm, V::splat(E(pr.ray().t_min))), x_hi = min(f.M_ + bM, V::splat(E(pr.ray().t_max)));
+    std::uint32_t mask = (f.ok & f.finite & (e_lo <= x_hi)).bits();
+    if constexpr (std::is_same_v<E, double>) {
+        e_lo.store(t);
+    } else {
+        E lo[std::size_t(W)];
+        e_lo.store(lo);
+        for (int i = 0; i < W; ++i) t[i] = double(lo[i]);
+    }
+    for (std::uint32_t u = simd::and_not(f.ok, f.finite).bits(); u != 0; u &= u - 1) {
+        const int i = std::countr_zero(u);
+        const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
+        mask |= std::uint32_t(h.verdict == Verdict::hit) << i;
+        t[i] = double(h.t_enter);
+    }
+    return mask;
+}
+
 // The conservative node test: the conservative packet's filter (ray_aabb_packet.hpp,
 // the same decisions as its mask, so it never drops a lane the exact ray meets on the
 // prepared ray's range) with the lower end of each hit lane's entry enclosure,
@@ -207,8 +242,8 @@ template <class B, class T, int W>
 RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_conservative(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
                                                            double (&t)[std::size_t(W)]) noexcept {
     if (!pr.valid()) return 0;
-    std::uint32_t mask = 0;
     if (!packet::all_axes_usable<double>(pr)) [[unlikely]] {
+        std::uint32_t mask = 0;
         for (int i = 0; i < W; ++i)
             if (valid(b.box(i))) {
                 const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
@@ -217,55 +252,13 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_conservative(const PreparedRay<T>&
             }
         return mask;
     }
-    if constexpr (std::is_same_v<T, float>) {
-        // Float trees: the certified packet's float filter (twice the lanes per
-        // register), where every reciprocal is a normal float. Its enclosures
-        // [max(t_min, lo(m)), max(t_min, hi(m))] of the exact latest entry and
-        // [min(t_max, lo(M)), min(t_max, hi(M))] of the exact earliest exit (K =
-        // 2·gamma_f(4), eta = 2^-126, ray_aabb_packet.hpp) leave a lane a possible hit
-        // unless the exit's upper end lies below the entry's lower end (the certified
-        // filter's proven miss): the same expressions, so the same guarantee.
-        if (packet::all_axes_usable<float>(pr)) [[likely]] {
-            using V = simd::Vec<float, W, B>;
-            const packet::Filtered<float, B, T, W> f = packet::filter<float, B, false>(pr, b);
-            const V K = V::splat(packet::Bound<float>::K), eta = V::splat(packet::Bound<float>::eta);
-            const V bm = abs(f.m) * K + eta, bM = abs(f.M_) * K + eta;
-            const V e_lo = max(f.m - bm, V::splat(pr.ray().t_min)), x_hi = min(f.M_ + bM, V::splat(pr.ray().t_max));
-            mask = (f.ok & f.finite & (e_lo <= x_hi)).bits();
-            float lo[std::size_t(W)];
-            e_lo.store(lo);
-            for (int i = 0; i < W; ++i) t[i] = double(lo[i]);
-            for (std::uint32_t u = simd::and_not(f.ok, f.finite).bits(); u != 0; u &= u - 1) {
-                const int i = std::countr_zero(u);
-                const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
-                mask |= std::uint32_t(h.verdict == Verdict::hit) << i;
-                t[i] = double(h.t_enter);
-            }
-            return mask;
-        }
-    }
-    // Double (and float trees whose reciprocals are not normal floats): the certified
-    // packet's double filter, bounded once at the largest computed entry m and smallest
-    // computed exit M_. Both ends of an enclosure increase with the value bounded
-    // (ray_aabb_packet.hpp), so max(t_min, lo(m)) is the largest of the per-axis lower
-    // entry bounds and min(t_max, hi(M_)) the smallest of the upper exit bounds: on the
-    // lanes with every value finite, the conservative packet's very decisions and entry
-    // bounds, with two enclosures per lane instead of six.
-    using V = simd::Vec<double, W, B>;
-    const packet::Filtered<double, B, T, W> f = packet::filter<double, B, false>(pr, b);
-    const V K = V::splat(packet::Bound<double>::K), eta = V::splat(packet::Bound<double>::eta);
-    const V bm = abs(f.m) * K + eta, bM = abs(f.M_) * K + eta;
-    const V e_lo = max(f.m - bm, V::splat(double(pr.ray().t_min))),
-            x_hi = min(f.M_ + bM, V::splat(double(pr.ray().t_max)));
-    mask = (f.ok & f.finite & (e_lo <= x_hi)).bits();
-    e_lo.store(t);
-    for (std::uint32_t u = simd::and_not(f.ok, f.finite).bits(); u != 0; u &= u - 1) {
-        const int i = std::countr_zero(u);
-        const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
-        mask |= std::uint32_t(h.verdict == Verdict::hit) << i;
-        t[i] = double(h.t_enter);
-    }
-    return mask;
+    // Float trees: the float filter (twice the lanes per register, K = 2·gamma_f(4), eta =
+    // 2^-126) where every reciprocal is a normal float; otherwise, and for double trees,
+    // the double filter.
+    if constexpr (std::is_same_v<T, float>)
+        if (packet::all_axes_usable<float>(pr)) [[likely]]
+            return bvh_node_filter<float, B>(pr, b, t);
+    return bvh_node_filter<double, B>(pr, b, t);
 }
 
 }  // namespace detail
