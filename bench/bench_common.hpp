@@ -134,13 +134,25 @@ void time_scalar(benchmark::State& st, const std::string& key, const std::string
 // keeps the ratio b / a; the counter "ratio" is the median over the iterations. On a
 // machine whose speed changes between repetitions (a shared host, frequency steps) two
 // independent medians can each land in a different state; both halves of a pair see
-// the same one. Each timed pass follows an untimed one of the same method, so both are
+// the same one. A timed pass is a function of its own per method (timed_pass), its loop
+// over plain pointers and a count, as a scalar benchmark's loop is: a loop inside a
+// lambda that reaches the cases, the output and the count through captured references
+// must reload them after every stored Hit, which once made the textbook half of a pair
+// three times slower than the same method timed alone. Each timed pass follows an untimed one of the same method, so both are
 // timed warm, as the scalar benchmarks time every method: a short pass right after a
 // long one of another method (CGAL's, which allocates) would otherwise start with the
 // cases and its code evicted, and pay for that alone. The benchmark's own time is that
 // of all four passes and is not reported.
 // a_key and b_key name the scalar benchmarks whose check passes (run once per key)
 // must have passed; the cases are the workload's timed ones (uniform unless named).
+template <class Case, class T, class F>
+[[gnu::noinline]] double timed_pass(const Case* cases, Hit<T>* out, std::size_t n, F f) {
+    const auto start = std::chrono::steady_clock::now();
+    for (std::size_t i = 0; i < n; ++i) out[i] = f(cases[i].ray, cases[i].shape);
+    benchmark::DoNotOptimize(out);
+    benchmark::ClobberMemory();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
 template <class T, class Shape, class A, class B>
 void time_pair(benchmark::State& st, std::size_t n, const std::string& a_key, A a, const std::string& b_key, B b,
                const std::string& workload_name = "uniform") {
@@ -151,13 +163,7 @@ void time_pair(benchmark::State& st, std::size_t n, const std::string& a_key, A 
     };
     if (!checked(a_key, a) || !checked(b_key, b)) return;
     std::vector<Hit<T>> out(n);
-    auto pass = [&](auto query) {
-        const auto start = std::chrono::steady_clock::now();
-        for (std::size_t i = 0; i < n; ++i) out[i] = query(all[i].ray, all[i].shape);
-        benchmark::DoNotOptimize(out.data());
-        benchmark::ClobberMemory();
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    };
+    const auto pass = [&](auto query) { return timed_pass(all.data(), out.data(), n, query); };
     std::vector<double> ratios, a_ns, b_ns;
     for (auto _ : st) {
         pass(a);  // warm-up, untimed
