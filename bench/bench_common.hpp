@@ -134,7 +134,7 @@ void time_scalar(benchmark::State& st, const std::string& key, const std::string
 // keeps the ratio b / a; the counter "ratio" is the median over the iterations. On a
 // machine whose speed changes between repetitions (a shared host, frequency steps) two
 // independent medians can each land in a different state; both halves of a pair see
-// the same one. A timed pass is a function of its own per method (timed_pass), its loop
+// the same one. A timed pass is a function of its own per method (fill_pass), its loop
 // over plain pointers and a count, as a scalar benchmark's loop is: a loop inside a
 // lambda that reaches the cases, the output and the count through captured references
 // must reload them after every stored Hit, which once made the textbook half of a pair
@@ -145,12 +145,14 @@ void time_scalar(benchmark::State& st, const std::string& key, const std::string
 // of all four passes and is not reported.
 // a_key and b_key name the scalar benchmarks whose check passes (run once per key)
 // must have passed; the cases are the workload's timed ones (uniform unless named).
-template <class Case, class T, class F>
-[[gnu::noinline]] double timed_pass(const Case* cases, Hit<T>* out, std::size_t n, F f) {
-    const auto start = std::chrono::steady_clock::now();
+template <class Case, class T, class F> [[gnu::noinline]] void fill_pass(const Case* cases, Hit<T>* out, std::size_t n, F f) {
     for (std::size_t i = 0; i < n; ++i) out[i] = f(cases[i].ray, cases[i].shape);
     benchmark::DoNotOptimize(out);
     benchmark::ClobberMemory();
+}
+template <class Case, class T, class F> double timed_pass(const Case* cases, Hit<T>* out, std::size_t n, F f) {
+    const auto start = std::chrono::steady_clock::now();
+    fill_pass(cases, out, n, f);
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 template <class T, class Shape, class A, class B>
