@@ -29,12 +29,26 @@ install_missing() {
   $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
-# configure_and_build NAME CXX [extra cmake args...]: build/NAME, warnings as errors.
-configure_and_build() {
+# configure_dir NAME CXX [extra cmake args...]: configures build/NAME (Ninja, Release,
+# warnings as errors); prints the configure log on failure.
+configure_dir() {
   local name="$1" cxx="$2"
   shift 2
   local dir="$ROOT/build/$name"
   cmake -S "$ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER="$cxx" \
     -DRAYPROOF_WERROR=ON "$@" >"$dir.configure.log" 2>&1 || { mkdir -p "$dir"; cat "$dir.configure.log"; return 1; }
-  cmake --build "$dir" -j "$JOBS" >"$dir.build.log" 2>&1 || { grep -E "error|FAILED|warning" "$dir.build.log" | head -50; return 1; }
+}
+
+# build_dir NAME [targets...]: builds build/NAME (everything, or the targets named); prints
+# the build log's errors and warnings on failure.
+build_dir() {
+  local dir="$ROOT/build/$1"
+  shift
+  cmake --build "$dir" -j "$JOBS" ${1:+--target "$@"} >"$dir.build.log" 2>&1 ||
+    { grep -E "error|FAILED|warning" "$dir.build.log" | head -50; return 1; }
+}
+
+# configure_and_build NAME CXX [extra cmake args...]: build/NAME, warnings as errors.
+configure_and_build() {
+  configure_dir "$@" && build_dir "$1"
 }

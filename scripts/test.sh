@@ -37,16 +37,13 @@ kernel_stage() {
   local dir="$ROOT/build/$name"
   echo "== $name: configure and build ($flags)"
   start=$(date +%s)
-  cmake -S "$ROOT" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_COMPILER="$cc" -DRAYPROOF_WERROR=ON \
-    -DCMAKE_CXX_FLAGS_RELEASE="$flags -DNDEBUG" -DRAYPROOF_RENDER=OFF \
-    -DRAYPROOF_TOOLS=OFF -DRAYPROOF_BENCH=OFF -DRAYPROOF_PYTHON=OFF -DRAYPROOF_FUZZ=OFF \
-    >"$dir.configure.log" 2>&1 || { cat "$dir.configure.log"; return 1; }
+  configure_dir "$name" "$cc" -DCMAKE_CXX_FLAGS_RELEASE="$flags -DNDEBUG" -DRAYPROOF_RENDER=OFF \
+    -DRAYPROOF_TOOLS=OFF -DRAYPROOF_BENCH=OFF -DRAYPROOF_PYTHON=OFF -DRAYPROOF_FUZZ=OFF || return 1
   targets=$(ninja -C "$dir" -t targets all |
     sed -n 's#^tests/\(unit\|oracle\|props\|exact_stage\|regressions\|fp_env\)/\([A-Za-z0-9_]*\): CXX_EXECUTABLE_LINKER.*#\1/\2#p' |
     grep -E "^($programs)\$" | grep -v '/kernel_measure' | sed 's#.*/##' | sort -u)
   [ -n "$targets" ] || { echo "== $name: no test programs match '$programs'"; return 1; }
-  cmake --build "$dir" -j "$JOBS" --target $targets >"$dir.build.log" 2>&1 ||
-    { grep -E "error|FAILED|warning" "$dir.build.log" | head -50; return 1; }
+  build_dir "$name" $targets || return 1
   built=$(date +%s)
   local rc=0
   ctest --test-dir "$dir" -j "$JOBS" -L "$labels" -LE cli ${exclude:+-E "$exclude"} --output-on-failure \
@@ -98,14 +95,12 @@ if [ "${RAYPROOF_CONTRACT_STAGE:-1}" != 0 ]; then
   # Tests of the build and the checkout rather than of the kernel's arithmetic.
   contract_exclude='^(fp_model_refused|kernel_headers_stand_alone|fuzz_mutations_apply)$'
   for cc in ${RAYPROOF_CONTRACT_COMPILERS:-g++ clang++}; do
+    programs="$contract_unit|props/[A-Za-z0-9_]*|exact_stage/[A-Za-z0-9_]*" labels='unit|property|oracle'
     if [ "$cc" = g++ ]; then
-      kernel_stage gcc-contract g++ "-O3 -march=native -ffp-contract=fast" \
-        "$contract_unit|props/[A-Za-z0-9_]*|exact_stage/[A-Za-z0-9_]*|regressions/[A-Za-z0-9_]*" \
-        'unit|property|oracle|fuzz-replay' "$contract_exclude" || status=1
-    else
-      kernel_stage clang-contract clang++ "-O3 -march=native -ffp-contract=fast" \
-        "$contract_unit|props/[A-Za-z0-9_]*|exact_stage/[A-Za-z0-9_]*" 'unit|property|oracle' "$contract_exclude" || status=1
+      programs+="|regressions/[A-Za-z0-9_]*" labels+='|fuzz-replay'
     fi
+    kernel_stage "$([ "$cc" = g++ ] && echo gcc || echo clang)-contract" "$cc" "-O3 -march=native -ffp-contract=fast" \
+      "$programs" "$labels" "$contract_exclude" || status=1
   done
 fi
 # The bounded fuzzing stage: sanitizer build, regression replay, RAYPROOF_FUZZ_SECONDS
