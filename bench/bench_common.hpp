@@ -143,8 +143,7 @@ void time_scalar(benchmark::State& st, const std::string& key, const std::string
 // untimed one of the same method, so both are timed warm, as the scalar benchmarks time
 // every method: a short pass right after a long one of another method (CGAL's, which
 // allocates) would otherwise start with the cases and its code evicted, and pay for
-// that alone. The benchmark's own time is that
-// of all four passes and is not reported.
+// that alone. The benchmark's own time is that of all four passes and is not reported.
 // a_key and b_key name the scalar benchmarks whose check passes (run once per key)
 // must have passed; the cases are the workload's timed ones (uniform unless named).
 template <class Case, class T, class F> [[gnu::noinline]] void fill_pass(const Case* cases, Hit<T>* out, std::size_t n, F f) {
