@@ -274,7 +274,28 @@ template <class T, int W> bool check_ray(const Bvh<T, W>& bvh, const std::vector
 template <class T, int W> void check_tree(const Bvh<T, W>& bvh, const std::vector<Primitive<T>>& prims) {
     const BvhStats s = bvh.stats();
     EXPECT_EQ(s.primitives, prims.size());
-    EXPECT_EQ(bvh.primitives().size(), prims.size());
+    EXPECT_EQ(bvh.size(), prims.size());
+    // Stored order: leaf order, then the primitives beside the tree; each stored copy is
+    // the primitive index_of names, and index_of is a permutation.
+    ASSERT_EQ(bvh.stored().size(), prims.size());
+    {
+        const auto text = [](const Primitive<T>& p) {
+            std::ostringstream os;
+            if (p.valueless_by_exception()) return std::string("valueless");
+            std::visit([&os](const auto& shape) { os << shape; }, p);
+            return os.str();
+        };
+        std::vector<int> named(prims.size(), 0);
+        const std::size_t in_tree = bvh.leaf_indices().size();
+        for (std::size_t p = 0; p < prims.size(); ++p) {
+            const std::size_t i = bvh.index_of(p);
+            ASSERT_LT(i, prims.size()) << "stored position " << p;
+            ++named[i];
+            EXPECT_EQ(i, p < in_tree ? std::size_t(bvh.leaf_indices()[p]) : bvh.outside()[p - in_tree]);
+            EXPECT_EQ(text(bvh.stored()[p]), text(prims[i])) << "stored position " << p << ", index " << i;
+        }
+        for (std::size_t i = 0; i < prims.size(); ++i) EXPECT_EQ(named[i], 1) << "index " << i;
+    }
     std::vector<int> where(prims.size(), 0);
     for (const std::size_t i : bvh.outside()) {
         ASSERT_LT(i, prims.size());

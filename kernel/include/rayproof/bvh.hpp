@@ -25,16 +25,20 @@
 //            primitive exactly. Unused lanes are empty slots (lo = +inf > hi = -inf).
 //            Primitives with no enclosing box (planes, unbounded or invalid primitives,
 //            empty polyhedra) are kept in a list beside the tree and visited by every
-//            query. The primitives are copied in their given order (the indices answered
-//            are positions in it); a ConvexPolyhedron's planes stay the caller's.
+//            query. The primitives are copied and stored in leaf order, the tree's first,
+//            then those beside it (so a leaf's primitives share cache lines); the indices
+//            answered are positions in the given order (index_of maps a stored position
+//            to it). A ConvexPolyhedron's planes stay the caller's.
 // Build:     top-down binned SAH (the surface area heuristic of MacDonald & Booth, "Heuristics
 //            for ray tracing using space subdivision", Visual Computer 1990; binned over the
 //            centroids as in Wald, "On fast construction of SAH-based bounding volume
 //            hierarchies", IRT 2007), with binary splits collapsed into W-wide nodes the
 //            way Embree's wide BVH builders do (Wald et al., "Embree: a kernel framework for
 //            efficient CPU ray tracing", SIGGRAPH 2014): a node takes its range, then splits
-//            its largest child (by surface area) holding more than leaf_size primitives
-//            until it has W children or none is left to split. Where the bins cannot
+//            its largest child (by surface area) until it has W children or none is left
+//            to split, children too big for one node of leaves first, then only children
+//            whose primitives fit in the lanes left (so the lowest nodes are full, not
+//            many nodes of two or three lanes). Where the bins cannot
 //            separate the centroids (all equal, or every cost infinite), and below depth
 //            bvh_sah_depth, the split is the object median on the widest centroid axis:
 //            every split leaves both sides nonempty, and the depth is at most
@@ -48,11 +52,14 @@
 //            modes the conservative packet's filter (bvh_node_conservative), whose mask
 //            contains every lane the exact ray meets on that range and whose entry
 //            enclosure's lower end (kept in double) bounds the lane's exact entry below.
-//            Children are pushed far first by that t_enter, and a popped child whose
-//            t_enter exceeds the current t_limit is skipped. (The certified packet is
-//            exact, but pays a scalar query for its undecided lanes; the primitives'
-//            own certified queries decide the answer either way, so the conservative
-//            packet, which never culls less than the exact test would keep, suffices.)
+//            The nearest hit lane is answered next; the other hit lanes are pushed far
+//            first by that t_enter (their nodes or leaf primitives prefetched), and a
+//            popped lane whose t_enter exceeds the current t_limit is skipped. Which
+//            filter (float, double, or the scalar query for reciprocals neither can use)
+//            is decided once per ray. (The certified packet is exact, but pays a scalar
+//            query for its undecided lanes; the primitives' own certified queries decide
+//            the answer either way, so the conservative packet, which never culls less
+//            than the exact test would keep, suffices.)
 //            closest_hit lowers t_limit as it finds hits: certified, to next_up(b), b the
 //            best hit's faithfully rounded t_enter; conservative and fast, to b.
 //            Candidates are compared with detail::compare_entry (certified: the exact
@@ -215,13 +222,7 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_filter(const PreparedRay<T>& pr, c
     const V bm = abs(f.m) * K + eta, bM = abs(f.M_) * K + eta;
     const V e_lo = max(f.m - bm, V::splat(E(pr.ray().t_min))), x_hi = min(f.M_ + bM, V::splat(E(pr.ray().t_max)));
     std::uint32_t mask = (f.ok & f.finite & (e_lo <= x_hi)).bits();
-    if constexpr (std::is_same_v<E, double>) {
-        e_lo.store(t);
-    } else {
-        E lo[std::size_t(W)];
-        e_lo.store(lo);
-        for (int i = 0; i < W; ++i) t[i] = double(lo[i]);
-    }
+    e_lo.store_widened(t);
     for (std::uint32_t u = simd::and_not(f.ok, f.finite).bits(); u != 0; u &= u - 1) {
         const int i = std::countr_zero(u);
         const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
@@ -231,18 +232,31 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_filter(const PreparedRay<T>& pr, c
     return mask;
 }
 
+// Which node filter a prepared ray can use, fixed by its reciprocals alone (so decided
+// once per traversal: PreparedRay::with_range keeps them): float trees the float filter
+// (twice the lanes per register, K = 2·gamma_f(4), eta = 2^-126) where every reciprocal
+// is a normal float; otherwise, and for double trees, the double filter where every
+// double reciprocal is normal; else the scalar conservative query per lane.
+enum class BvhFilter : unsigned char { in_float, in_double, scalar };
+template <class T> RAYPROOF_ALWAYS_INLINE BvhFilter bvh_filter_for(const PreparedRay<T>& pr) noexcept {
+    if constexpr (std::is_same_v<T, float>)
+        if (packet::all_axes_usable<float>(pr)) return BvhFilter::in_float;
+    return packet::all_axes_usable<double>(pr) ? BvhFilter::in_double : BvhFilter::scalar;
+}
+
 // The conservative node test: the conservative packet's filter (ray_aabb_packet.hpp,
 // the same decisions as its mask, so it never drops a lane the exact ray meets on the
 // prepared ray's range) with the lower end of each hit lane's entry enclosure,
 // max(t_min, lo(m)) <= the lane's exact entry, kept in double in t[i] (no rounding to T,
 // no other field). Lanes whose values overflow, and rays whose reciprocals the filter
 // cannot use, take the scalar conservative query, whose t_enter is such a bound too.
-// Needs the default floating-point environment (the caller establishes or checks it).
+// which: bvh_filter_for(pr). Needs the default floating-point environment (the caller
+// establishes or checks it).
 template <class B, class T, int W>
 RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_conservative(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
-                                                           double (&t)[std::size_t(W)]) noexcept {
+                                                           BvhFilter which, double (&t)[std::size_t(W)]) noexcept {
     if (!pr.valid()) return 0;
-    if (!packet::all_axes_usable<double>(pr)) [[unlikely]] {
+    if (which == BvhFilter::scalar) [[unlikely]] {
         std::uint32_t mask = 0;
         for (int i = 0; i < W; ++i)
             if (valid(b.box(i))) {
@@ -252,11 +266,8 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_conservative(const PreparedRay<T>&
             }
         return mask;
     }
-    // Float trees: the float filter (twice the lanes per register, K = 2·gamma_f(4), eta =
-    // 2^-126) where every reciprocal is a normal float; otherwise, and for double trees,
-    // the double filter.
     if constexpr (std::is_same_v<T, float>)
-        if (packet::all_axes_usable<float>(pr)) [[likely]]
+        if (which == BvhFilter::in_float) [[likely]]
             return bvh_node_filter<float, B>(pr, b, t);
     return bvh_node_filter<double, B>(pr, b, t);
 }
@@ -276,7 +287,14 @@ public:
         build(opt);
     }
 
-    [[nodiscard]] std::span<const Primitive<T>> primitives() const noexcept { return prims_; }
+    // The primitives held, and the copies as stored: the tree's in leaf order
+    // (leaf_indices()), then those beside it (outside()), so that a leaf's primitives
+    // lie together in memory. stored()[p] is the primitive of index index_of(p).
+    [[nodiscard]] std::size_t size() const noexcept { return prims_.size(); }
+    [[nodiscard]] std::span<const Primitive<T>> stored() const noexcept { return prims_; }
+    [[nodiscard]] std::size_t index_of(std::size_t position) const noexcept {
+        return position < order_.size() ? std::size_t(order_[position]) : outside_[position - order_.size()];
+    }
 
     [[nodiscard]] BvhStats stats() const noexcept {
         BvhStats s;
@@ -343,17 +361,19 @@ public:
     template <class Mode, class F>
         requires is_mode_v<Mode>
     void for_each_candidate(const PreparedRay<T>& ray, Mode mode, T& t_limit, F&& f) const {
-        candidates<false>(ray, mode, t_limit, f);
+        auto by_index = [this, &f](std::size_t position) { return f(index_of(position)); };
+        candidates<false>(ray, mode, t_limit, by_index);
     }
 
 private:
     using Node = detail::BvhNode<T, W>;
 
+    // f(position) for every candidate, by its position in prims_ (stored()).
     template <bool Known, class Mode, class F>
     void candidates(const PreparedRay<T>& ray, Mode mode, T& t_limit, F& f) const {
         if (!ray.valid()) return;
-        for (const std::size_t i : outside_)
-            if (!f(i)) return;
+        for (std::size_t j = 0; j < outside_.size(); ++j)
+            if (!f(order_.size() + j)) return;
         if (nodes_.empty()) return;
         traverse<Known>(ray, mode, t_limit, f);
     }
@@ -363,15 +383,15 @@ private:
         if (!ray.valid()) return invalid_answer();
         const T t_max = ray.ray().t_max;
         T limit = t_max;
-        auto consider = [&](std::size_t i) noexcept {
-            const Hit<T> h = detail::bvh_intersect(ray, prims_[i], mode);
+        std::size_t best_at = 0;  // the best's position in prims_
+        auto consider = [&](std::size_t p) noexcept {
+            const Hit<T> h = detail::bvh_intersect(ray, prims_[p], mode);
             if (h.verdict != Verdict::hit) return true;
-            const auto idx = std::int64_t(i);
+            const auto idx = std::int64_t(index_of(p));
             bool take = best.index < 0;
             if (!take) {
                 if constexpr (std::is_same_v<Mode, certified_t>) {
-                    const int c =
-                        detail::compare_entry(ray, prims_[i], h, prims_[std::size_t(best.index)], best.hit);
+                    const int c = detail::compare_entry(ray, prims_[p], h, prims_[best_at], best.hit);
                     take = c < 0 || (c == 0 && idx < best.index);
                 } else {
                     take = h.t_enter < best.hit.t_enter || (!(best.hit.t_enter < h.t_enter) && idx < best.index);
@@ -381,6 +401,7 @@ private:
                 best.verdict = Verdict::hit;
                 best.index = idx;
                 best.hit = h;
+                best_at = p;
                 // Certified: the exact entry of the best lies below next_up(b) (faithful
                 // b); a primitive that wins or ties is met there (the header comment).
                 const T next = std::is_same_v<Mode, certified_t> ? detail::bvh_next_up(h.t_enter) : h.t_enter;
@@ -396,11 +417,11 @@ private:
         ClosestHit<T> best;
         if (!ray.valid()) return invalid_answer();
         T limit = ray.ray().t_max;
-        auto consider = [&](std::size_t i) noexcept {
-            const Hit<T> h = detail::bvh_intersect(ray, prims_[i], mode);
+        auto consider = [&](std::size_t p) noexcept {
+            const Hit<T> h = detail::bvh_intersect(ray, prims_[p], mode);
             if (h.verdict != Verdict::hit) return true;
             best.verdict = Verdict::hit;
-            best.index = std::int64_t(i);
+            best.index = std::int64_t(index_of(p));
             best.hit = h;
             return false;
         };
@@ -422,26 +443,29 @@ private:
     // the caller established it, else it is checked per node.
     template <bool Known, class Mode>
     static RAYPROOF_ALWAYS_INLINE std::uint32_t node_test(const PreparedRay<T>& r, const Node& n, Mode,
+                                                          detail::BvhFilter which,
                                                           double (&t)[std::size_t(W)]) noexcept {
         if constexpr (std::is_same_v<Mode, fast_t>) {
-            // The public fast packet query, inlined (its face codes are not read).
-            const PacketHit<T, W> h = detail::packet::fast<detail::simd::native, true>(r, n.box);
-            for (int i = 0; i < W; ++i) t[i] = double(h.t_enter[i]);
-            return h.mask;
+            // The fast packet's lanes (ray_aabb_packet.hpp; r is valid), without face codes.
+            const auto l = detail::packet::fast_lanes<detail::simd::native, false>(r, n.box);
+            l.enter.store_widened(t);
+            return l.ok.bits();
         } else {
             if (Known || detail::fp_env_is_default()) [[likely]]
-                return detail::bvh_node_conservative<detail::simd::native>(r, n.box, t);
+                return detail::bvh_node_conservative<detail::simd::native>(r, n.box, which, t);
             const PacketHit<T, W> h = rayproof::intersect(r, n.box, conservative);
             for (int i = 0; i < W; ++i) t[i] = double(h.t_enter[i]);
             return h.mask;
         }
     }
 
-    // A hint to load a node's cache lines (no effect on any answer).
-    static RAYPROOF_ALWAYS_INLINE void prefetch([[maybe_unused]] const Node& n) noexcept {
+    // A hint to load the cache lines of [p, p + bytes) (no effect on any answer).
+    static RAYPROOF_ALWAYS_INLINE void prefetch([[maybe_unused]] const void* p,
+                                                [[maybe_unused]] std::size_t bytes) noexcept {
 #if defined(__GNUC__) || defined(__clang__)
-        const char* p = reinterpret_cast<const char*>(&n);
-        for (std::size_t k = 0; k < sizeof(Node); k += 64) __builtin_prefetch(p + k);
+        const char* c = static_cast<const char*>(p);
+        for (std::size_t k = 0; k < bytes; k += 64) __builtin_prefetch(c + k);
+        __builtin_prefetch(c + bytes - 1);
 #endif
     }
 
@@ -449,6 +473,11 @@ private:
         std::uint32_t first, count;  // as a node lane: count 0 an inner node
         double t;                    // the lane's t_enter (conservative, certified: a lower bound)
     };
+    // A deferred lane's memory: its node, or its leaf's stored primitives.
+    RAYPROOF_ALWAYS_INLINE void prefetch(const Entry& e) const noexcept {
+        if (e.count == 0) prefetch(&nodes_[e.first], sizeof(Node));
+        else prefetch(&prims_[e.first], e.count * sizeof(Primitive<T>));
+    }
     static constexpr std::size_t stack_capacity = std::size_t(detail::bvh_max_depth + 1) * std::size_t(W);
 
     // Known: the default floating-point environment is established (closest_hit,
@@ -466,16 +495,20 @@ private:
         PreparedRay<T> nr = narrowed(limit);
         if (!nr.valid()) return;
         double cut = double(nr.ray().t_max);
+        const detail::BvhFilter which = detail::bvh_filter_for(ray);  // nr's reciprocals are ray's
 
+        // cur: the lane being answered; the stack holds the lanes deferred, nearest on
+        // top. A hit lane of a node test on the current range has its t_enter bound at
+        // most that range's end (its mask says the entry does not lie beyond the exit),
+        // so the nearest hit lane is answered at once; only popped lanes, deferred while
+        // the range may have shrunk, are checked against it.
         std::array<Entry, stack_capacity> stack;
         std::size_t sp = 0;
-        stack[sp++] = Entry{0, 0, -detail::inf<double>};
-        while (sp > 0) {
-            const Entry e = stack[--sp];
-            if (e.t > cut) continue;  // the lane's entry lies beyond the range
-            if (e.count > 0) {
-                for (std::uint32_t k = e.first; k < e.first + e.count; ++k) {
-                    if (!f(std::size_t(order_[k]))) return;
+        Entry cur{0, 0, -detail::inf<double>};
+        for (;;) {
+            if (cur.count > 0) {
+                for (std::uint32_t k = cur.first; k < cur.first + cur.count; ++k) {
+                    if (!f(std::size_t(k))) return;
                     if (!(t_limit == limit)) {  // f moved the limit (bits differ or NaN)
                         limit = t_limit;
                         nr = narrowed(limit);
@@ -483,26 +516,57 @@ private:
                         cut = double(nr.ray().t_max);
                     }
                 }
-                continue;
+            } else {
+                const Node& n = nodes_[cur.first];
+                double t[std::size_t(W)];
+                std::uint32_t mask = node_test<Known>(nr, n, mode, which, t);
+                if (mask != 0) {
+                    const int i = std::countr_zero(mask);
+                    mask &= mask - 1;
+                    const Entry a{n.first[i], n.count[i], t[i]};
+                    if (mask == 0) {  // one hit lane: answered next, no stack
+                        cur = a;
+                        continue;
+                    }
+                    const int j = std::countr_zero(mask);
+                    mask &= mask - 1;
+                    const Entry b{n.first[j], n.count[j], t[j]};
+                    if (mask == 0) {  // two: the farther deferred (ties: the lower lane first)
+                        const bool a_first = !(b.t < a.t);
+                        const Entry& far = a_first ? b : a;
+                        prefetch(far);
+                        stack[sp++] = far;
+                        cur = a_first ? a : b;
+                        continue;
+                    }
+                    // More: sorted by t_enter, descending (ties: the lower lane last, so
+                    // answered first), all but the nearest deferred.
+                    Entry hits[std::size_t(W)];
+                    hits[0] = a;
+                    int m = 1;
+                    auto insert = [&](const Entry& c) {
+                        int k = m++;
+                        for (; k > 0 && hits[k - 1].t <= c.t; --k) hits[k] = hits[k - 1];
+                        hits[k] = c;
+                    };
+                    insert(b);
+                    for (std::uint32_t u = mask; u != 0; u &= u - 1) {
+                        const int l = std::countr_zero(u);
+                        insert(Entry{n.first[l], n.count[l], t[l]});
+                    }
+                    for (int k = 0; k + 1 < m; ++k) {
+                        prefetch(hits[k]);  // fetched while the nearest is answered
+                        stack[sp++] = hits[k];
+                    }
+                    cur = hits[m - 1];
+                    continue;
+                }
             }
-            const Node& n = nodes_[e.first];
-            double t[std::size_t(W)];
-            const std::uint32_t mask = node_test<Known>(nr, n, mode, t);
-            // Hit lanes sorted by t_enter, descending, then pushed: the nearest on top.
-            Entry hits[std::size_t(W)];
-            int m = 0;
-            for (std::uint32_t u = mask; u != 0; u &= u - 1) {
-                const int i = std::countr_zero(u);
-                Entry c{n.first[i], n.count[i], t[i]};
-                int j = m++;
-                for (; j > 0 && hits[j - 1].t < c.t; --j) hits[j] = hits[j - 1];
-                hits[j] = c;
-            }
-            for (int j = 0; j < m; ++j) {
-                // The inner children's nodes are fetched while the nearest is answered.
-                if (hits[j].count == 0) prefetch(nodes_[hits[j].first]);
-                stack[sp++] = hits[j];
-            }
+            // The next deferred lane whose entry does not lie beyond the range.
+            do {
+                if (sp == 0) return;
+                cur = stack[--sp];
+            } while (cur.t > cut);
         }
     }
 
@@ -669,16 +733,27 @@ private:
             const auto id = std::uint32_t(nodes_.size());
             if (task.lane >= 0) nodes_[task.parent].first[task.lane] = id;
             depth_ = std::max(depth_, task.depth);
-            // The node's children: the range, then its largest splittable child split
-            // until W children or none is left to split.
+            // The node's children: the range, then a child split until W children or
+            // none is left to split: the largest (by surface area) of those too big for
+            // one node of leaves (more than W·leaf_size primitives) while there are
+            // such, then the largest whose primitives all fit as leaves in the lanes
+            // left (ceil(size / leaf_size) - 1 <= W - n), so that small ranges fill this
+            // node instead of spreading over nodes of a few lanes each. The node's own
+            // range is always split (it is either too big or fits all W lanes), so every
+            // inner child's range is strictly smaller than the node's.
             Range child[std::size_t(W)];
             int n = 1;
             child[0] = task.range;
+            const std::uint32_t node_cap = std::uint32_t(W) * leaf_size;
             while (n < W) {
+                bool big = false;
+                for (int i = 0; i < n; ++i) big |= child[i].size() > node_cap;
                 int pick = -1;
                 double pick_area = -1;
                 for (int i = 0; i < n; ++i) {
                     if (child[i].size() <= leaf_size) continue;
+                    const std::uint32_t leaves = (child[i].size() + leaf_size - 1) / leaf_size;
+                    if (big ? child[i].size() <= node_cap : leaves - 1 > std::uint32_t(W - n)) continue;
                     const double area = half_area(child[i].lo, child[i].hi);
                     // NaN or inf areas still count (>= keeps the first such child).
                     if (pick < 0 || area > pick_area) {
@@ -723,11 +798,29 @@ private:
         for (std::size_t k = 0; k < refs_.size(); ++k) order_[k] = refs_[k].index;
         refs_.clear();
         refs_.shrink_to_fit();
+        // The copies into stored order (position p takes the primitive index_of(p), a
+        // permutation), in place, one cycle at a time.
+        std::vector<bool> placed(prims_.size(), false);
+        for (std::size_t p = 0; p < prims_.size(); ++p) {
+            if (placed[p]) continue;
+            Primitive<T> first = std::move(prims_[p]);
+            std::size_t q = p;
+            for (;;) {
+                placed[q] = true;
+                const std::size_t from = index_of(q);
+                if (from == p) {
+                    prims_[q] = std::move(first);
+                    break;
+                }
+                prims_[q] = std::move(prims_[from]);
+                q = from;
+            }
+        }
         nodes_.shrink_to_fit();
         outside_.shrink_to_fit();
     }
 
-    std::vector<Primitive<T>> prims_;
+    std::vector<Primitive<T>> prims_;      // in stored order (stored())
     std::vector<Node> nodes_;              // nodes_[0] the root (when there is a tree)
     std::vector<std::uint32_t> order_;     // leaf positions -> primitive indices
     std::vector<std::size_t> outside_;     // primitives beside the tree, ascending

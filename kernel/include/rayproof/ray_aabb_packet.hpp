@@ -193,19 +193,20 @@ template <class T, int W> void put(PacketHit<T, W>& h, int i, const Hit<T>& s) {
 }
 
 // --- fast ------------------------------------------------------------------------------
-// Full: the PacketHit; else the mask alone.
-template <class B, bool Full, class T, int W>
-RAYPROOF_ALWAYS_INLINE auto fast(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
+// The fast lanes of a valid prepared ray: ok (the lane's verdict is hit), the latest
+// entry and the earliest exit clamped to [t_min, t_max], and with Face the face codes
+// (-1 where t_min is not exceeded). Lanes outside ok hold unspecified values.
+template <class T, int W, class B> struct FastLanes {
+    simd::Mask<T, W, B> ok;
+    simd::Vec<T, W, B> enter, exit, face;
+};
+template <class B, bool Face, class T, int W>
+RAYPROOF_ALWAYS_INLINE FastLanes<T, W, B> fast_lanes(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
     using V = simd::Vec<T, W, B>;
     using M = simd::Mask<T, W, B>;
-    using Out = std::conditional_t<Full, PacketHit<T, W>, std::uint32_t>;
-    if (!pr.valid()) {
-        if constexpr (Full) return empty_hit<T, W>();
-        else return Out(0);
-    }
     const Ray<T>& r = pr.ray();
-    V enter = V::splat(r.t_min), exit = V::splat(r.t_max), face = V::splat(T(-1));
-    M ok = M::all();
+    FastLanes<T, W, B> l{M::all(), V::splat(r.t_min), V::splat(r.t_max), V::splat(T(-1))};
+    M& ok = l.ok;
     V sum = V::splat(T(0));
     RAYPROOF_UNROLL3
     for (int i = 0; i < 3; ++i) {
@@ -219,24 +220,37 @@ RAYPROOF_ALWAYS_INLINE auto fast(const PreparedRay<T>& pr, const AabbPacket<T, W
         const V inv = V::splat(pr.inv(i));
         const V tn = ((neg ? hi : lo) - o) * inv, tf = ((neg ? lo : hi) - o) * inv;
         sum = sum + (tn + tf);
-        if constexpr (Full) face = select(tn > enter, V::splat(T(2 * i + int(neg))), face);
-        enter = max(tn, enter);
-        exit = min(tf, exit);
+        if constexpr (Face) l.face = select(tn > l.enter, V::splat(T(2 * i + int(neg))), l.face);
+        l.enter = max(tn, l.enter);
+        l.exit = min(tf, l.exit);
     }
     // The probe (see box_ok): an infinite bound gives an infinite slab value, even fused
     // into the sum (an infinite operand); an overflowed value of a valid box (fast
     // promises nothing there) drops the lane too.
-    ok = ok & ((sum - sum) == V::splat(T(0))) & (enter <= exit);
+    ok = ok & ((sum - sum) == V::splat(T(0))) & (l.enter <= l.exit);
+    return l;
+}
+
+// Full: the PacketHit; else the mask alone.
+template <class B, bool Full, class T, int W>
+RAYPROOF_ALWAYS_INLINE auto fast(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
+    using V = simd::Vec<T, W, B>;
+    using Out = std::conditional_t<Full, PacketHit<T, W>, std::uint32_t>;
+    if (!pr.valid()) {
+        if constexpr (Full) return empty_hit<T, W>();
+        else return Out(0);
+    }
+    const FastLanes<T, W, B> l = fast_lanes<B, Full>(pr, b);
     if constexpr (!Full) {
-        return ok.bits();
+        return l.ok.bits();
     } else {
         PacketHit<T, W> h;
-        h.mask = ok.bits();
+        h.mask = l.ok.bits();
         const V zero = V::splat(T(0));
-        select(ok, enter, zero).store(h.t_enter);
-        select(ok, exit, zero).store(h.t_exit);
+        select(l.ok, l.enter, zero).store(h.t_enter);
+        select(l.ok, l.exit, zero).store(h.t_exit);
         T f[std::size_t(W)];
-        select(ok, face, V::splat(T(-1))).store(f);
+        select(l.ok, l.face, V::splat(T(-1))).store(f);
         for (int i = 0; i < W; ++i) h.face[i] = int(f[i]);
         return h;
     }

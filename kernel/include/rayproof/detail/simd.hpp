@@ -55,6 +55,7 @@ template <class T> struct Chunk<T, 1> {
     static reg load(const T* p) { return *p; }
     static reg load_widen(const float* p) { return T(*p); }
     static void store(T* p, reg a) { *p = a; }
+    static void store_widened(double* p, reg a) { *p = double(a); }
     static reg splat(T x) { return x; }
     static reg add(reg a, reg b) { return a + b; }
     static reg sub(reg a, reg b) { return a - b; }
@@ -124,6 +125,10 @@ template <> struct Chunk<float, 4> {
     static constexpr int lanes = 4;
     static reg load(const float* p) { return _mm_loadu_ps(p); }
     static void store(float* p, reg a) { _mm_storeu_ps(p, a); }
+    static void store_widened(double* p, reg a) {
+        _mm_storeu_pd(p, _mm_cvtps_pd(a));
+        _mm_storeu_pd(p + 2, _mm_cvtps_pd(_mm_movehl_ps(a, a)));
+    }
     static reg splat(float x) { return _mm_set1_ps(x); }
     static reg add(reg a, reg b) { return _mm_add_ps(a, b); }
     static reg sub(reg a, reg b) { return _mm_sub_ps(a, b); }
@@ -191,6 +196,10 @@ template <> struct Chunk<float, 8> {
     static constexpr int lanes = 8;
     static reg load(const float* p) { return _mm256_loadu_ps(p); }
     static void store(float* p, reg a) { _mm256_storeu_ps(p, a); }
+    static void store_widened(double* p, reg a) {
+        _mm256_storeu_pd(p, _mm256_cvtps_pd(_mm256_castps256_ps128(a)));
+        _mm256_storeu_pd(p + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(a, 1)));
+    }
     static reg splat(float x) { return _mm256_set1_ps(x); }
     static reg add(reg a, reg b) { return _mm256_add_ps(a, b); }
     static reg sub(reg a, reg b) { return _mm256_sub_ps(a, b); }
@@ -274,6 +283,13 @@ template <class T, int W, class B> struct Vec {
     }
     RAYPROOF_ALWAYS_INLINE void store(T* p) const {
         for (int k = 0; k < n; ++k) C::store(p + k * C::lanes, r[k]);
+    }
+    // Every lane widened to double (exactly) and stored: p[i] = double(lane i).
+    RAYPROOF_ALWAYS_INLINE void store_widened(double* p) const {
+        if constexpr (std::is_same_v<T, double>)
+            store(p);
+        else
+            for (int k = 0; k < n; ++k) C::store_widened(p + k * C::lanes, r[k]);
     }
 };
 

@@ -33,7 +33,7 @@
 //                 (the tracer's use): every primitive whose certified answer on
 //                 [t_min, final t_limit] is a hit is visited; every index visited is in
 //                 range (fast: only that)
-//   stats         primitives() and stats().primitives equal the scene's count
+//   stats         size() and stats().primitives equal the scene's count
 #pragma once
 
 #include <rayproof/bvh.hpp>
@@ -234,8 +234,8 @@ std::optional<std::string> check_structure(const Bvh<T, W>& bvh, const Ray<T>& r
     using namespace check_detail;
     std::ostringstream os;
     os << "Bvh<" << (std::is_same_v<T, float> ? "float" : "double") << ", " << W << ">: ";
-    if (bvh.primitives().size() != prims.size() || bvh.stats().primitives != prims.size()) {
-        os << "holds " << bvh.primitives().size() << " primitives (stats " << bvh.stats().primitives << "), the scene "
+    if (bvh.size() != prims.size() || bvh.stats().primitives != prims.size()) {
+        os << "holds " << bvh.size() << " primitives (stats " << bvh.stats().primitives << "), the scene "
            << prims.size();
         return os.str();
     }
