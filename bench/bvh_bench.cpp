@@ -28,6 +28,11 @@
 // in turn within each repetition, so that a change of load on a shared machine spreads
 // over all of them. Exit status 3 when the certified BVH differs from the brute-force
 // loop on some judged ray (each such ray is named on stderr with the seed).
+//
+// Built a second time with -mavx2 (rayproof_bvh_bench_avx2, RAYPROOF_BENCH_BVH_SUFFIX
+// "_avx2"): rayproof's methods only, each name and the build keys suffixed (fast_avx2,
+// rayproof_avx2, ...), and none of the keys the default build already writes (the set,
+// the judgement's reference), so that both outputs can be read side by side.
 #include "bvh_scenes.hpp"
 
 #include <rayproof/rayproof.hpp>
@@ -54,6 +59,14 @@ namespace {
 
 using namespace rayproof;
 using bench::RaySet;
+
+#ifdef RAYPROOF_BENCH_BVH_SUFFIX
+const std::string kSuffix = RAYPROOF_BENCH_BVH_SUFFIX;
+#else
+const std::string kSuffix;
+#endif
+// The keys of the set and of the reference: written by the default build alone.
+const bool kWritesShared = kSuffix.empty();
 
 double thread_cpu_seconds() {
     timespec ts{};
@@ -135,17 +148,18 @@ int main(int argc, char** argv) {
 
     const std::vector<Sphere<float>> balls = bench::sphere_set(o.spheres, o.seed);
     std::vector<Primitive<float>> prims(balls.begin(), balls.end());
-    put("bvh-spheres", double(balls.size()));
+    if (kWritesShared) put("bvh-spheres", double(balls.size()));
     const RaySet sets[] = {RaySet::camera, RaySet::grazing};
     std::vector<std::vector<Ray<float>>> rays;
     for (std::size_t k = 0; k < 2; ++k) {
         rays.push_back(bench::ray_set(sets[k], balls, o.rays, o.seed + 1 + k));
-        put(std::string("bvh-rays-") + bench::ray_set_name(sets[k]), double(o.rays));
+        if (kWritesShared) put(std::string("bvh-rays-") + bench::ray_set_name(sets[k]), double(o.rays));
     }
 
     // ---- the structures and their builds
     std::vector<Method> methods;
-    const auto built = [&](const std::string& name, double seconds, std::size_t bytes, std::size_t item_bytes) {
+    const auto built = [&](const std::string& base, double seconds, std::size_t bytes, std::size_t item_bytes) {
+        const std::string name = base.rfind("embree", 0) == 0 ? base : base + kSuffix;
         put("bvh-build-s-" + name, seconds);
         put("bvh-bytes-" + name, double(bytes));
         put("bvh-bytes-items-" + name, double(item_bytes * balls.size()));
@@ -159,7 +173,7 @@ int main(int argc, char** argv) {
           sizeof(Primitive<float>));
     const auto add_mode = [&](const std::string& name, auto mode, bool exact) {
         methods.push_back(Method{
-            name, exact,
+            name + kSuffix, exact,
             [&bvh, mode](const Ray<float>& r) {
                 const ClosestHit<float> c = bvh.closest_hit(PreparedRay<float>(r), mode);
                 return Answer{bool(c), c.index, c};
@@ -189,7 +203,7 @@ int main(int argc, char** argv) {
     };
     const auto add_double_mode = [&](const std::string& name, auto mode) {
         methods.push_back(Method{
-            name + "_double", false,
+            name + "_double" + kSuffix, false,
             [&dbvh, mode, widen](const Ray<float>& r) {
                 const ClosestHit<double> c = dbvh.closest_hit(PreparedRay<double>(widen(r)), mode);
                 return Answer{bool(c), c.index, {}};
@@ -229,16 +243,16 @@ int main(int argc, char** argv) {
     std::size_t certified_differs = 0;
     for (std::size_t k = 0; k < 2; ++k) {
         const std::string set = bench::ray_set_name(sets[k]);
-        put("bvh-judged-" + set, double(o.judge));
+        if (kWritesShared) put("bvh-judged-" + set, double(o.judge));
         std::vector<ClosestHit<float>> ref(o.judge);
         const double c0 = thread_cpu_seconds();
         for (std::size_t i = 0; i < o.judge; ++i)
             ref[i] = closest_hit(PreparedRay<float>(rays[k][i]), std::span<const Primitive<float>>(prims), certified);
         const double brute = thread_cpu_seconds() - c0;
-        if (o.judge > 0) put("bvh-brute-rate-" + set, double(o.judge) / brute);
+        if (o.judge > 0 && kWritesShared) put("bvh-brute-rate-" + set, double(o.judge) / brute);
         std::size_t hits = 0;
         for (const auto& c : ref) hits += bool(c);
-        put("bvh-hits-" + set, double(hits));
+        if (kWritesShared) put("bvh-hits-" + set, double(hits));
         for (const Method& m : methods) {
             std::size_t wrong = 0, false_miss = 0, false_hit = 0;
             for (std::size_t i = 0; i < o.judge; ++i) {

@@ -746,11 +746,16 @@ struct RayTarget {
     const char* method;
     double limit;
 };
-constexpr RayTarget kRayTargets[] = {{"fast", 1.5}, {"certified", 2.0}};
-const std::vector<std::string> kBvhMethods = {"fast", "conservative", "certified", "embree", "embree_robust"};
+constexpr RayTarget kRayTargets[] = {{"fast", 1.5}, {"certified", 2.0}, {"fast_avx2", 1.5}, {"certified_avx2", 2.0}};
+// *_avx2: the same Bvh<float, 8> in the bench's AVX2 build (rayproof_bvh_bench_avx2).
+const std::vector<std::string> kBvhMethods = {"fast",      "conservative",      "certified",      "fast_avx2",
+                                              "conservative_avx2", "certified_avx2", "embree", "embree_robust"};
 const std::map<std::string, std::string> kBvhLabel = {{"fast", "rayproof Bvh, fast"},
                                                       {"conservative", "rayproof Bvh, conservative"},
                                                       {"certified", "rayproof Bvh, certified"},
+                                                      {"fast_avx2", "rayproof Bvh, fast, AVX2 build"},
+                                                      {"conservative_avx2", "rayproof Bvh, conservative, AVX2 build"},
+                                                      {"certified_avx2", "rayproof Bvh, certified, AVX2 build"},
                                                       {"embree", "Embree 3"},
                                                       {"embree_robust", "Embree 3, robust"}};
 const std::vector<std::string> kBvhSets = {"camera", "grazing"};

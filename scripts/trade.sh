@@ -201,6 +201,13 @@ done
 "$B/rayproof_bvh_bench" --rays "$BVH_RAYS" --judge "$BVH_JUDGE" --repetitions "$REPS" --seed 1 \
   -o "$BV/rays.txt" 2>"$BV/rays.log" ||
   echo "   (rayproof_bvh_bench: the certified BVH differed from brute force or failed: see $BV/rays.log)"
+# The same tree in the AVX2 build, where the compiler made one and the CPU runs it.
+rm -f "$BV/rays_avx2.txt"
+if [ -x "$B/rayproof_bvh_bench_avx2" ] && grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
+  "$B/rayproof_bvh_bench_avx2" --rays "$BVH_RAYS" --judge "$BVH_JUDGE" --repetitions "$REPS" --seed 1 \
+    -o "$BV/rays_avx2.txt" 2>"$BV/rays_avx2.log" ||
+    echo "   (rayproof_bvh_bench_avx2: the certified BVH differed from brute force or failed: see $BV/rays_avx2.log)"
+fi
 echo "   $(( $(date +%s) - t0 )) s"
 
 if [ "$ONLY" != tracer ]; then
@@ -232,6 +239,7 @@ fi
   $( [ -s "$OUT/audit.md" ] && echo --audit "$OUT/audit.md" ) \
   --tracer-facts "$OUT/tracer_facts.txt" --render-md "$OUT/render_speed.md" \
   --bvh "$OUT/bvh/scenes.txt" $( [ -s "$OUT/bvh/rays.txt" ] && echo --bvh "$OUT/bvh/rays.txt" ) \
+  $( [ -s "$OUT/bvh/rays_avx2.txt" ] && echo --bvh "$OUT/bvh/rays_avx2.txt" ) \
   --meta "date=$(date -u +%Y-%m-%d)" --meta "compiler=$compiler" --meta "flags=$flags" \
   "${stages_meta[@]}" \
   --meta "samples=$CASES cases judged per (shape, type, workload), the first $(grep -o '"cases": "[0-9]*"' "$OUT/bench.json" | grep -o '[0-9]*') of them timed; CGAL: the first $CGAL_CASES judged; $REPS repetitions of each timing" \
