@@ -138,9 +138,10 @@ MemoryNeed scene_text_need(std::string_view text) {
 // the index arrays (4 and 8 bytes per primitive at most), and its nodes. A node covers
 // more than leaf_size = 1 primitive and has at least two lanes, so there are fewer
 // nodes than primitives; the tree the binned SAH builds has far fewer (one node per
-// about 3 primitives measured on 100,000 generated balls), and the estimate takes one
+// about 5 primitives measured on 100,000 generated balls), and the estimate takes one
 // per 2 primitives, three times over for the vector's growth (up to twice its size) and
-// its final shrink (one more copy).
+// its final shrink (one more copy). The copies are then put in leaf order in place,
+// with one bit per primitive, after the scratch is freed.
 std::uint64_t bvh_need(std::uint64_t primitives) {
     const std::uint64_t per_primitive = 2 * sizeof(Primitive<double>) + 9 * sizeof(double) + 8 + 4 + 8;
     const std::uint64_t nodes = primitives / 2 + 1;
