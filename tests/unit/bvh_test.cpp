@@ -67,6 +67,7 @@ template <class T> constexpr T inf = std::numeric_limits<T>::infinity();
 template <class T> Vec3<T> v3(double x, double y, double z) { return Vec3<T>(T(x), T(y), T(z)); }
 
 template <class T> std::string describe(const Primitive<T>& p) {
+    if (p.valueless_by_exception()) return "valueless";
     std::ostringstream os;
     std::visit([&](const auto& s) { os << s; }, p);
     return os.str();
@@ -279,12 +280,6 @@ template <class T, int W> void check_tree(const Bvh<T, W>& bvh, const std::vecto
     // the primitive index_of names, and index_of is a permutation.
     ASSERT_EQ(bvh.stored().size(), prims.size());
     {
-        const auto text = [](const Primitive<T>& p) {
-            std::ostringstream os;
-            if (p.valueless_by_exception()) return std::string("valueless");
-            std::visit([&os](const auto& shape) { os << shape; }, p);
-            return os.str();
-        };
         std::vector<int> named(prims.size(), 0);
         const std::size_t in_tree = bvh.leaf_indices().size();
         for (std::size_t p = 0; p < prims.size(); ++p) {
@@ -292,7 +287,7 @@ template <class T, int W> void check_tree(const Bvh<T, W>& bvh, const std::vecto
             ASSERT_LT(i, prims.size()) << "stored position " << p;
             ++named[i];
             EXPECT_EQ(i, p < in_tree ? std::size_t(bvh.leaf_indices()[p]) : bvh.outside()[p - in_tree]);
-            EXPECT_EQ(text(bvh.stored()[p]), text(prims[i])) << "stored position " << p << ", index " << i;
+            EXPECT_EQ(describe(bvh.stored()[p]), describe(prims[i])) << "stored position " << p << ", index " << i;
         }
         for (std::size_t i = 0; i < prims.size(); ++i) EXPECT_EQ(named[i], 1) << "index " << i;
     }
