@@ -78,6 +78,9 @@ fi
 mkdir -p "$OUT"
 B="$BUILD/bench"
 RP="$BUILD/tools/rayproof"
+# True when the AVX2 build of bench program $1 exists (the compiler made one) and this
+# CPU runs it.
+avx2_runs() { [ -x "$B/$1_avx2" ] && grep -qw avx2 /proc/cpuinfo 2>/dev/null; }
 
 # The flags the timed code was compiled with (the compile command of one benchmark file,
 # without include paths and file names).
@@ -101,7 +104,7 @@ echo "== box packets ($REPS repetitions, median)"
 t0=$(date +%s)
 # The AVX2 build where the compiler made one and the CPU runs it, else the default (SSE2).
 packet_bench="$B/rayproof_packet_bench"
-if [ -x "$B/rayproof_packet_bench_avx2" ] && grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
+if avx2_runs rayproof_packet_bench; then
   packet_bench="$B/rayproof_packet_bench_avx2"
 fi
 "$packet_bench" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
@@ -203,7 +206,7 @@ done
   echo "   (rayproof_bvh_bench: the certified BVH differed from brute force or failed: see $BV/rays.log)"
 # The same tree in the AVX2 build, where the compiler made one and the CPU runs it.
 rm -f "$BV/rays_avx2.txt"
-if [ -x "$B/rayproof_bvh_bench_avx2" ] && grep -qw avx2 /proc/cpuinfo 2>/dev/null; then
+if avx2_runs rayproof_bvh_bench; then
   "$B/rayproof_bvh_bench_avx2" --rays "$BVH_RAYS" --judge "$BVH_JUDGE" --repetitions "$REPS" --seed 1 \
     -o "$BV/rays_avx2.txt" 2>"$BV/rays_avx2.log" ||
     echo "   (rayproof_bvh_bench_avx2: the certified BVH differed from brute force or failed: see $BV/rays_avx2.log)"
