@@ -68,9 +68,25 @@ function(rayproof_add_fuzz_replay harness)
   if(TARGET ${harness}_replay OR NOT RAYPROOF_FDP_DIR)
     return()
   endif()
-  add_executable(${harness}_replay ${RAYPROOF_FUZZ_DIR}/${harness}.cpp ${RAYPROOF_FUZZ_DIR}/replay_main.cpp)
+  rayproof_add_fuzz_replay_main()
+  add_executable(${harness}_replay ${RAYPROOF_FUZZ_DIR}/${harness}.cpp)
   rayproof_fuzz_link(${harness}_replay ${harness})
-  target_link_libraries(${harness}_replay PRIVATE rayproof_cli)
+  target_link_libraries(${harness}_replay PRIVATE rayproof_fuzz_replay_main)
+endfunction()
+
+# rayproof_fuzz_replay_main: replay_main.cpp compiled once for every replay executable
+# (it reads its command line with CLI11, about 13 s of compile each time). The
+# executables take main() from this library; main() calls the harness's
+# LLVMFuzzerTestOneInput.
+function(rayproof_add_fuzz_replay_main)
+  if(TARGET rayproof_fuzz_replay_main)
+    return()
+  endif()
+  add_library(rayproof_fuzz_replay_main STATIC ${RAYPROOF_FUZZ_DIR}/replay_main.cpp)
+  target_include_directories(rayproof_fuzz_replay_main PRIVATE ${RAYPROOF_FUZZ_DIR})
+  target_link_libraries(rayproof_fuzz_replay_main PUBLIC rayproof_cli)
+  target_compile_features(rayproof_fuzz_replay_main PRIVATE cxx_std_20)
+  target_compile_options(rayproof_fuzz_replay_main PRIVATE ${RAYPROOF_WARNINGS})
 endfunction()
 
 # rayproof_fuzz_seeds: writes the seed corpora, checks the byte format's round trip.
