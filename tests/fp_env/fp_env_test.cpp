@@ -398,7 +398,10 @@ template <class T, class Shape> void check_one(const Env& e, std::ostream& table
 
 // One environment: every shape, float and double.
 void check_environment(const Env& e) {
-    const Watchdog watchdog(std::chrono::seconds(20));
+    // One case is some twenty kernel calls: well under a millisecond, even scaled to the
+    // exponent range's ends. Five seconds without a finished case is a hang, not a slow
+    // machine; the unguarded build waits out this limit in each environment that hangs.
+    const Watchdog watchdog(std::chrono::seconds(5));
     current_env = e.name;
     std::ostringstream table;
     table << "environment " << e.name << " (base seed " << base_seed() << ", " << cases_per_generator()
