@@ -8,7 +8,8 @@
 # find_package, no_exceptions (the same with -fno-exceptions) and pkg_config first run
 # the one-command kernel-only install. Every way then builds consumer.cpp with the
 # kernel's include directory as plain -I and strict warnings, runs it and checks its
-# verdict line.
+# verdict line (add_subdirectory, fetchcontent and pkg_config its plumbing set:
+# consumer.cpp says why).
 cmake_minimum_required(VERSION 3.25)
 file(REMOVE_RECURSE ${WORK_DIR})
 file(MAKE_DIRECTORY ${WORK_DIR})
@@ -102,7 +103,7 @@ elseif(WAY STREQUAL "pkg_config")
   # (Eigen's own headers are not -Wconversion clean), the kernel's as plain -I.
   file(MAKE_DIRECTORY ${build})
   set(flags "-O0 -Wall -Wextra -Wpedantic -Wconversion -Wsign-conversion -Wshadow -Werror")
-  set(line "'${CXX}' -std=c++20 ${flags} -DCONSUMER_EXPECTED_VERSION='\"${version}\"' \
+  set(line "'${CXX}' -std=c++20 ${flags} -DCONSUMER_PLUMBING -DCONSUMER_EXPECTED_VERSION='\"${version}\"' \
 $(pkg-config --cflags-only-I eigen3 | sed 's/-I/-isystem /g') $(pkg-config --cflags rayproof) \
 '${CONSUMER_DIR}/consumer.cpp' -o '${build}/consumer'")
   message(STATUS "${line}")
