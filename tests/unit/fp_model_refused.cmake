@@ -37,7 +37,9 @@ endif()
 if(CXX_ID STREQUAL "Clang")
   list(APPEND refused "-ffp-model=fast")
 endif()
+# -Wfatal-errors: the kernel's #error must be the first error, and the compile stops
+# there instead of parsing the rest of the kernel under the refused model.
 foreach(flags IN LISTS refused)
   separate_arguments(args UNIX_COMMAND "${flags}")
-  compile(FALSE "${flags}" ${args})
+  compile(FALSE "${flags}" -Wfatal-errors ${args})
 endforeach()
