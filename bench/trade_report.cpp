@@ -748,16 +748,27 @@ struct RayTarget {
 };
 constexpr RayTarget kRayTargets[] = {{"fast", 1.5}, {"certified", 2.0}, {"fast_avx2", 1.5}, {"certified_avx2", 2.0}};
 // *_avx2: the same Bvh<float, 8> in the bench's AVX2 build (rayproof_bvh_bench_avx2).
-const std::vector<std::string> kBvhMethods = {"fast",      "conservative",      "certified",      "fast_avx2",
-                                              "conservative_avx2", "certified_avx2", "embree", "embree_robust"};
-const std::map<std::string, std::string> kBvhLabel = {{"fast", "rayproof Bvh, fast"},
-                                                      {"conservative", "rayproof Bvh, conservative"},
-                                                      {"certified", "rayproof Bvh, certified"},
-                                                      {"fast_avx2", "rayproof Bvh, fast, AVX2 build"},
-                                                      {"conservative_avx2", "rayproof Bvh, conservative, AVX2 build"},
-                                                      {"certified_avx2", "rayproof Bvh, certified, AVX2 build"},
-                                                      {"embree", "Embree 3"},
-                                                      {"embree_robust", "Embree 3, robust"}};
+// *_double: the tracer's Bvh<double, 8> over the same balls (no target of its own).
+const std::vector<std::string> kBvhMethods = {
+    "fast",          "conservative",          "certified",          "fast_avx2",
+    "conservative_avx2", "certified_avx2",    "fast_double",        "conservative_double",
+    "certified_double",  "fast_double_avx2",  "conservative_double_avx2", "certified_double_avx2",
+    "embree",        "embree_robust"};
+const std::map<std::string, std::string> kBvhLabel = {
+    {"fast", "rayproof Bvh, fast"},
+    {"conservative", "rayproof Bvh, conservative"},
+    {"certified", "rayproof Bvh, certified"},
+    {"fast_avx2", "rayproof Bvh, fast, AVX2 build"},
+    {"conservative_avx2", "rayproof Bvh, conservative, AVX2 build"},
+    {"certified_avx2", "rayproof Bvh, certified, AVX2 build"},
+    {"fast_double", "rayproof Bvh<double, 8>, fast"},
+    {"conservative_double", "rayproof Bvh<double, 8>, conservative"},
+    {"certified_double", "rayproof Bvh<double, 8>, certified"},
+    {"fast_double_avx2", "rayproof Bvh<double, 8>, fast, AVX2 build"},
+    {"conservative_double_avx2", "rayproof Bvh<double, 8>, conservative, AVX2 build"},
+    {"certified_double_avx2", "rayproof Bvh<double, 8>, certified, AVX2 build"},
+    {"embree", "Embree 3"},
+    {"embree_robust", "Embree 3, robust"}};
 const std::vector<std::string> kBvhSets = {"camera", "grazing"};
 
 std::string count(double v);
@@ -838,10 +849,14 @@ std::string bvh_build_table(const Report& r) {
     std::string o = row({"structure", "build, ms (one thread)", "ns per primitive", "bytes per primitive",
                          "of which the primitive's copy"}) +
                     rule(1, 4);
-    for (const std::string m : {"rayproof", "embree", "embree_robust"}) {
+    const std::map<std::string, std::string> label = {{"rayproof", "rayproof Bvh<float, 8>"},
+                                                      {"rayproof_double", "rayproof Bvh<double, 8>"},
+                                                      {"embree", kBvhLabel.at("embree")},
+                                                      {"embree_robust", kBvhLabel.at("embree_robust")}};
+    for (const std::string m : {"rayproof", "rayproof_double", "embree", "embree_robust"}) {
         const double s = get("bvh-build-s-" + m);
         if (std::isnan(s)) continue;
-        o += row({m == "rayproof" ? "rayproof Bvh<float, 8>" : kBvhLabel.at(m), num(1e3 * s), num(1e9 * s / n),
+        o += row({label.at(m), num(1e3 * s), num(1e9 * s / n),
                   num(get("bvh-bytes-" + m) / n), num(get("bvh-bytes-items-" + m) / n)});
     }
     return o;
