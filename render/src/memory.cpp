@@ -1,5 +1,6 @@
 // What a scene needs in memory and what the machine has (memory.hpp).
 #include <rayproof/render/memory.hpp>
+#include <rayproof/render/tracer.hpp>
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -132,20 +133,21 @@ MemoryNeed scene_text_need(std::string_view text) {
     return n;
 }
 
-// The BVH (tracer.cpp builds one Bvh<double, 8> over the objects and the visible
-// lights' spheres): while it is built, the tracer's list of primitives and the Bvh's copy
-// of it, the build's scratch (a box, a centroid and an index per primitive, 80 bytes),
-// the index arrays (4 and 8 bytes per primitive at most), and its nodes. A node covers
-// more than leaf_size = 1 primitive and has at least two lanes, so there are fewer
-// nodes than primitives; the tree the binned SAH builds has far fewer (one node per
-// about 5 primitives measured on 100,000 generated balls), and the estimate takes one
-// per 2 primitives, three times over for the vector's growth (up to twice its size) and
-// its final shrink (one more copy). The copies are then put in leaf order in place,
-// with one bit per primitive, after the scratch is freed.
+// The BVH (tracer.cpp builds one Bvh<double, scene_bvh_width> over the objects and the
+// visible lights' spheres): while it is built, the tracer's list of primitives and the
+// Bvh's copy of it, the build's scratch (a box, a centroid and an index per primitive, 80
+// bytes), the index arrays (4 and 8 bytes per primitive at most), and its nodes. A node
+// covers more than leaf_size = 1 primitive and has at least two lanes, so there are fewer
+// nodes than primitives; the tree the binned SAH builds has far fewer (one node per about
+// 5 primitives measured on 100,000 generated balls with W = 8, per 2.5 with W = 4), and
+// the estimate takes one per 2 primitives, three times over for the vector's growth (up
+// to twice its size) and its final shrink (one more copy). The copies are then put in
+// leaf order in place, with one bit per primitive, after the scratch is freed.
 std::uint64_t bvh_need(std::uint64_t primitives) {
     const std::uint64_t per_primitive = 2 * sizeof(Primitive<double>) + 9 * sizeof(double) + 8 + 4 + 8;
     const std::uint64_t nodes = primitives / 2 + 1;
-    return sat_add(sat_mul(primitives, per_primitive), sat_mul(sat_mul(nodes, 3), sizeof(detail::BvhNode<double, 8>)));
+    const std::uint64_t node_bytes = sizeof(detail::BvhNode<double, scene_bvh_width>);
+    return sat_add(sat_mul(primitives, per_primitive), sat_mul(sat_mul(nodes, 3), node_bytes));
 }
 
 MemoryNeed render_need(const Scene& scene, int threads) {

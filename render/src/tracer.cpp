@@ -58,10 +58,12 @@ struct Candidate {
 // beside the tree (bvh.hpp).
 struct SceneBvh {
     std::size_t objects = 0;
-    Bvh<double, 8> bvh;
+    Bvh<double, scene_bvh_width> bvh;
 };
 
-SceneBvh build_bvh(const Scene& s) { return SceneBvh{s.objects.size(), Bvh<double, 8>(scene_primitives(s))}; }
+SceneBvh build_bvh(const Scene& s) {
+    return SceneBvh{s.objects.size(), Bvh<double, scene_bvh_width>(scene_primitives(s))};
+}
 
 template <class M> class Tracer {
 public:

@@ -63,7 +63,7 @@ TEST(Scale, ParsesOneHundredThousandObjects) {
     EXPECT_EQ(mismatched, 0u);
     // The BVH the tracer builds over them fits in render_need's estimate.
     const std::vector<Primitive<double>> prims = scene_primitives(s);
-    const Bvh<double, 8> bvh(prims);
+    const Bvh<double, scene_bvh_width> bvh(prims);
     const BvhStats st = bvh.stats();
     std::uint64_t estimate = 0;
     for (const auto& p : render_need(s, 1).parts)
