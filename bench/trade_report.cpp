@@ -748,7 +748,8 @@ struct RayTarget {
 };
 constexpr RayTarget kRayTargets[] = {{"fast", 1.5}, {"certified", 2.0}, {"fast_avx2", 1.5}, {"certified_avx2", 2.0}};
 // *_avx2: the same Bvh<float, 8> in the bench's AVX2 build (rayproof_bvh_bench_avx2).
-// *_double: the tracer's Bvh<double, 8> over the same balls (no target of its own).
+// *_double: the tracer's Bvh<double, W> over the same balls (no target of its own; W is
+// 4 in the default x86-64 build, 8 in the AVX2 build: render/tracer.hpp).
 const std::vector<std::string> kBvhMethods = {
     "fast",          "conservative",          "certified",          "fast_avx2",
     "conservative_avx2", "certified_avx2",    "fast_double",        "conservative_double",
@@ -761,12 +762,12 @@ const std::map<std::string, std::string> kBvhLabel = {
     {"fast_avx2", "rayproof Bvh, fast, AVX2 build"},
     {"conservative_avx2", "rayproof Bvh, conservative, AVX2 build"},
     {"certified_avx2", "rayproof Bvh, certified, AVX2 build"},
-    {"fast_double", "rayproof Bvh<double, 8>, fast"},
-    {"conservative_double", "rayproof Bvh<double, 8>, conservative"},
-    {"certified_double", "rayproof Bvh<double, 8>, certified"},
-    {"fast_double_avx2", "rayproof Bvh<double, 8>, fast, AVX2 build"},
-    {"conservative_double_avx2", "rayproof Bvh<double, 8>, conservative, AVX2 build"},
-    {"certified_double_avx2", "rayproof Bvh<double, 8>, certified, AVX2 build"},
+    {"fast_double", "rayproof Bvh, double, fast"},
+    {"conservative_double", "rayproof Bvh, double, conservative"},
+    {"certified_double", "rayproof Bvh, double, certified"},
+    {"fast_double_avx2", "rayproof Bvh, double, fast, AVX2 build"},
+    {"conservative_double_avx2", "rayproof Bvh, double, conservative, AVX2 build"},
+    {"certified_double_avx2", "rayproof Bvh, double, certified, AVX2 build"},
     {"embree", "Embree 3"},
     {"embree_robust", "Embree 3, robust"}};
 const std::vector<std::string> kBvhSets = {"camera", "grazing"};
@@ -849,8 +850,10 @@ std::string bvh_build_table(const Report& r) {
     std::string o = row({"structure", "build, ms (one thread)", "ns per primitive", "bytes per primitive",
                          "of which the primitive's copy"}) +
                     rule(1, 4);
+    const double w = get("bvh-double-width");
+    const std::string double_tree = std::isnan(w) ? "rayproof Bvh, double" : fmt::format("rayproof Bvh<double, {:.0f}>", w);
     const std::map<std::string, std::string> label = {{"rayproof", "rayproof Bvh<float, 8>"},
-                                                      {"rayproof_double", "rayproof Bvh<double, 8>"},
+                                                      {"rayproof_double", double_tree},
                                                       {"embree", kBvhLabel.at("embree")},
                                                       {"embree_robust", kBvhLabel.at("embree_robust")}};
     for (const std::string m : {"rayproof", "rayproof_double", "embree", "embree_robust"}) {
