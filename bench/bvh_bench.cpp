@@ -69,13 +69,9 @@ const std::string kSuffix;
 #endif
 // The keys of the set and of the reference: written by the default build alone.
 const bool kWritesShared = kSuffix.empty();
-// The tracer's width for its Bvh<double, W> (render/tracer.hpp, scene_bvh_width, whose
-// comment has the measurement): 8 where the build targets AVX2, else 4.
-#if defined(__AVX2__)
-constexpr int kDoubleWidth = 8;
-#else
-constexpr int kDoubleWidth = 4;
-#endif
+// The tracer's width for its Bvh<double, W> (render/tracer.hpp, scene_bvh_width): the
+// kernel's bvh_native_width (bvh.hpp), 8 where the build targets AVX2, else 4.
+constexpr int kDoubleWidth = bvh_native_width<double>;
 
 double thread_cpu_seconds() {
     timespec ts{};

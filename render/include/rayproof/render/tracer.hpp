@@ -36,6 +36,7 @@
 // Secondary-ray origins: see SurfacePoint::offset below (no fixed epsilon).
 #pragma once
 
+#include <rayproof/bvh.hpp>
 #include <rayproof/closest.hpp>
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/surface_point.hpp>
@@ -101,17 +102,10 @@ struct RenderResult {
 // out among the threads. The image and the counts are the same for any number of threads.
 RenderResult render(const Scene& scene, const RenderOptions& options = {});
 
-// The width of the tracer's BVH nodes, Bvh<double, scene_bvh_width>: 8 where the build
-// targets AVX2 (eight double lanes in two registers), else 4 (with SSE2 alone, eight
-// double lanes take four registers). Certified closest hits on 100,000 balls, camera
-// rays, per ray: W = 4 took 2.9-3.1 µs against 6.3-6.6 µs for W = 8 in the default
-// x86-64 build, and 2.4-2.5 µs against 2.2-2.4 µs in an AVX2 build. The answers are
-// the same for every width (bvh.hpp).
-#if defined(__AVX2__)
-inline constexpr int scene_bvh_width = 8;
-#else
-inline constexpr int scene_bvh_width = 4;
-#endif
+// The width of the tracer's BVH nodes, Bvh<double, scene_bvh_width>: the kernel's
+// bvh_native_width (bvh.hpp, with the measurement), 8 where the build targets AVX2 and 4
+// otherwise. The answers are the same for every width.
+inline constexpr int scene_bvh_width = bvh_native_width<double>;
 
 // The scene's objects and the spheres of its visible lights as the kernel's primitives,
 // in that order (object i is primitive i; the k-th visible light's sphere is primitive
