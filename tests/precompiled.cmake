@@ -7,8 +7,8 @@
 # rayproof_precompile_test_headers), each group of test programs with the same compile
 # options and definitions shares one precompiled header (REUSE_FROM), made by a small
 # object library of its own, so that a stage which builds only some of the programs
-# never builds a program it did not ask for. Groups of fewer than three
-# programs keep none: the header costs about one translation unit to make.
+# never builds a program it did not ask for. Groups of fewer than three programs keep
+# none: the header costs about one translation unit to make.
 #
 # Only third-party and standard headers are precompiled. The kernel's own headers are
 # not: some programs define RAYPROOF_* macros (portable limbs, split products, no
