@@ -28,7 +28,9 @@
 //            query. The primitives are copied and stored in leaf order, the tree's first,
 //            then those beside it (so a leaf's primitives share cache lines); the indices
 //            answered are positions in the given order (index_of maps a stored position
-//            to it). A ConvexPolyhedron's planes stay the caller's.
+//            to it). A ConvexPolyhedron's planes stay the caller's. The tree's balls are
+//            copied once more, as bare Spheres by position, which the leaves read (a
+//            variant's tag lies on another cache line than a ball's values).
 // Build:     top-down binned SAH (the surface area heuristic of MacDonald & Booth, "Heuristics
 //            for ray tracing using space subdivision", Visual Computer 1990; binned over the
 //            centroids as in Wald, "On fast construction of SAH-based bounding volume
@@ -134,7 +136,8 @@ struct BvhOptions {
 
 // primitives: as given; nodes: W-wide nodes; leaves: leaf lanes; outside: primitives
 // kept beside the tree; depth: node levels (0 without a tree, 1 for a root alone);
-// bytes: the memory the Bvh holds (nodes, index arrays, the primitives' copies).
+// bytes: the memory the Bvh holds (nodes, index arrays, the primitives' copies and the
+// balls' compact ones).
 // Every primitive is in exactly one leaf or beside the tree.
 struct BvhStats {
     std::size_t primitives = 0, nodes = 0, leaves = 0, outside = 0;
@@ -319,7 +322,8 @@ public:
         for (const Node& n : nodes_)
             for (int i = 0; i < W; ++i) s.leaves += std::size_t(n.count[i] > 0);
         s.bytes = sizeof(*this) + nodes_.capacity() * sizeof(Node) + order_.capacity() * sizeof(std::uint32_t) +
-                  outside_.capacity() * sizeof(std::size_t) + prims_.capacity() * sizeof(Primitive<T>);
+                  outside_.capacity() * sizeof(std::size_t) + prims_.capacity() * sizeof(Primitive<T>) +
+                  balls_.capacity() * sizeof(Sphere<T>);
         return s;
     }
 
@@ -399,7 +403,7 @@ private:
         T limit = t_max;
         std::size_t best_at = 0;  // the best's position in prims_
         auto consider = [&](std::size_t p) noexcept {
-            const Hit<T> h = detail::bvh_intersect(ray, prims_[p], mode);
+            const Hit<T> h = hit_at(ray, p, mode);
             if (h.verdict != Verdict::hit) return true;
             const auto idx = std::int64_t(index_of(p));
             bool take = best.index < 0;
@@ -432,7 +436,7 @@ private:
         if (!ray.valid()) return invalid_answer();
         T limit = ray.ray().t_max;
         auto consider = [&](std::size_t p) noexcept {
-            const Hit<T> h = detail::bvh_intersect(ray, prims_[p], mode);
+            const Hit<T> h = hit_at(ray, p, mode);
             if (h.verdict != Verdict::hit) return true;
             best.verdict = Verdict::hit;
             best.index = std::int64_t(index_of(p));
@@ -487,10 +491,24 @@ private:
         std::uint32_t first, count;  // as a node lane: count 0 an inner node
         double t;                    // the lane's t_enter (conservative, certified: a lower bound)
     };
-    // A deferred lane's memory: its node, or its leaf's stored primitives.
+    // A deferred lane's memory: its node, or its leaf's primitives (their compact balls
+    // where there are any).
     RAYPROOF_ALWAYS_INLINE void prefetch(const Entry& e) const noexcept {
         if (e.count == 0) prefetch(&nodes_[e.first], sizeof(Node));
+        else if (e.first < balls_.size()) prefetch(&balls_[e.first], e.count * sizeof(Sphere<T>));
         else prefetch(&prims_[e.first], e.count * sizeof(Primitive<T>));
+    }
+
+    // The stored primitive p's answer in the mode: from its compact copy in balls_ when
+    // it is a ball (the same values, so the very Hit), else from prims_.
+    template <class Mode>
+    RAYPROOF_ALWAYS_INLINE Hit<T> hit_at(const PreparedRay<T>& ray, std::size_t p, Mode mode) const noexcept {
+        if (p < balls_.size()) {
+            const Sphere<T>& b = balls_[p];
+            if (!std::isnan(b.radius)) [[likely]]
+                return rayproof::intersect(ray, b, mode);
+        }
+        return detail::bvh_intersect(ray, prims_[p], mode);
     }
     static constexpr std::size_t stack_capacity = std::size_t(detail::bvh_max_depth + 1) * std::size_t(W);
 
@@ -830,11 +848,27 @@ private:
                 q = from;
             }
         }
+        // The tree's balls again, compactly: 16 bytes each in float, where the variant
+        // takes 72 and keeps its tag on a second cache line (the leaves' hot data, half
+        // the leaf test's time on 100,000 balls went to loading that tag). Position p of
+        // the tree holds its ball, or a NaN radius where p is another primitive (never
+        // a ball of the tree: an invalid ball has no enclosing box). Empty when the tree
+        // has no ball.
+        const std::size_t in_tree = order_.size();
+        std::size_t n_balls = 0;
+        for (std::size_t p = 0; p < in_tree; ++p) n_balls += std::size_t(prims_[p].index() == 2);
+        if (n_balls > 0) {
+            const Sphere<T> none{Vec3<T>::Zero(), std::numeric_limits<T>::quiet_NaN()};
+            balls_.assign(in_tree, none);
+            for (std::size_t p = 0; p < in_tree; ++p)
+                if (const Sphere<T>* b = std::get_if<Sphere<T>>(&prims_[p])) balls_[p] = *b;
+        }
         nodes_.shrink_to_fit();
         outside_.shrink_to_fit();
     }
 
     std::vector<Primitive<T>> prims_;      // in stored order (stored())
+    std::vector<Sphere<T>> balls_;         // the tree's balls by position, or empty (finish())
     std::vector<Node> nodes_;              // nodes_[0] the root (when there is a tree)
     std::vector<std::uint32_t> order_;     // leaf positions -> primitive indices
     std::vector<std::size_t> outside_;     // primitives beside the tree, ascending
