@@ -415,10 +415,12 @@ private:
     // of its exit face, the entry face of the reversed ray (as for boxes; where fast mode
     // answers inconsistently, the face plane nearest the point). The point and its bound
     // E are the kernel's for that plane (rayproof::surface_point of the Plane), the normal
-    // the plane's outward unit normal, and the margin K the plane's of tracer.hpp,
-    // gamma(12)·(|offset| + Σ|n_i p_i|)/|n|: the kernel evaluates each plane's crossing
-    // as a plane's (num and den of a product and three sums; conservative's enclosure
-    // gamma(5)·S is inside it).
+    // the plane's outward unit normal, and the margin K of tracer.hpp, c·(|offset| +
+    // Σ|n_i p_i|)/|n|: fast, c = gamma(12), the plane's (each plane's crossing is
+    // evaluated as a plane's: num and den of a product and three sums); conservative, c =
+    // detail::poly_leaving_margin = gamma(22), which ray_polyhedron.hpp derives for its
+    // enclosure of the crossing (a ray leaving the face from that distance is answered
+    // miss on it, however grazing).
     SurfacePoint at(const Polyhedron& poly, const Rayd& ray, const Candidate& c) {
         Hitd h = c.hit;
         Rayd r = ray;
@@ -449,7 +451,8 @@ private:
         const Vec3d& n = pl.normal;
         const double terms =
             std::abs(n[0] * sp.p[0]) + std::abs(n[1] * sp.p[1]) + std::abs(n[2] * sp.p[2]) + std::abs(pl.offset);
-        sp.offset = spawn_offset(k) + gamma_bound(12) * terms / n.norm();
+        const double margin = std::is_same_v<M, conservative_t> ? ::rayproof::detail::poly_leaving_margin : gamma_bound(12);
+        sp.offset = spawn_offset(k) + margin * terms / n.norm();
         return sp;
     }
 

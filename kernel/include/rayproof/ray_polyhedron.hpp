@@ -33,11 +33,13 @@
 //            bounds or decided exactly; each crossing is enclosed around q = fl(N~/D~) by a
 //            derived bound (crossing_enclosure), or, when den is within twice its bound
 //            of 0, by the outward-rounded quotient of the two enclosures (unbounded on one
-//            side then); [t_enter, t_exit] = [largest entry lower bound, smallest exit
-//            upper bound], which encloses the exact interval, so the verdict can only err
-//            towards hit.
-//            certified — the same enclosures filter each comparison of the pass (a
-//            crossing against the current entry or exit, entry against exit); what they
+//            side then), and within 32 times its bound by the intersection of the two
+//            (crossing_enclosure_conservative: a ray leaving a face from gamma(22)·S of
+//            it is answered miss on it however grazing, poly_leaving_margin);
+//            [t_enter, t_exit] = [largest entry lower bound, smallest exit upper bound],
+//            which encloses the exact interval, so the verdict can only err towards hit.
+//            certified — crossing_enclosure's intervals filter each comparison of the
+//            pass (a crossing against the current entry or exit, entry against exit); what they
 //            cannot separate is decided exactly (detail/exact.hpp, detail/certified.hpp:
 //            sign(num_a·den_b - num_b·den_a)·sign(den_a)·sign(den_b), degree 4; against a
 //            limit sign(num - c·den)·sign(den), degree 3), in Shewchuk expansions, or
@@ -181,6 +183,45 @@ inline Interval<double> crossing_enclosure(const PolyCrossing& c, int s) {
     return divide_signed(around(c.N, c.eN, c.finite_N), around(c.D, c.eD, c.finite_D), s);
 }
 
+// Conservative mode's enclosure of the crossing: crossing_enclosure's, and where |D~| <=
+// 32·eD also the outward-rounded quotient of the two enclosures (divide_signed), their
+// intersection (both enclose t). Near 0 the derived bound alone is wide: E >=
+// 3|q|·eD/|D~|, above |q| itself when |D~| < 3·eD, so the interval reaches across 0
+// whatever N is; the quotient's end on the side of 0 keeps N's sign whenever N's
+// enclosure does. Certified mode keeps crossing_enclosure alone (its faithful rounding
+// starts from that interval, so that its t stays the plane's).
+//
+// poly_leaving_margin: a ray leaving a plane's half-space from outside, o at distance
+// delta from the plane and n·d > 0 (the exact crossing t = N/D < 0, N = -g, g = n·o -
+// offset = delta·|n|), is answered miss on [0, t_max] by conservative mode — the plane's
+// upper end below 0, so [t_enter, t_exit] is empty for every polyhedron with that
+// plane — when g >= gamma(22)·S, S = |offset| + Σ|n_j o_j|, and S >= 2^-960·(1 +
+// Σ|n_j d_j|) (the absolute terms): the distance by which the tracer moves a secondary
+// ray's origin off a conservative polyhedron's face. With |N~ - N| < eN, eN <=
+// gamma(5)(1 + 8u)·S + 2^-1022(1 + u) (three roundings, and the computed S~ exceeds S by
+// at most gamma(5)·S):
+//   |D~| > 32·eD: the upper end fl_up(q + E) is below 0 when q + E < -2^-1074. E <=
+//     3(1 + 6u)(eN + |q|·eD)/|D~| + 2^-51(1 + 2u)|q| + 2^-1020(1 + u), and eD/|D~| <
+//     1/32, so it suffices that |q|(1 - 3/32 - 2^-50) > 3(1 + 6u)·eN/|D~| + 2^-1019,
+//     with |q| >= (1 - u)|N~|/|D~| and |N~| >= g - eN: g > 4.3104·eN + 2^-1018·|D~|,
+//     which gamma(22)·S gives: 4.3104·gamma(5)(1 + 8u) < 21.56u < gamma(22) - 0.44u,
+//     and 0.44u·S covers the absolute terms for S >= 2^-960(1 + |D|).
+//   |D~| <= 32·eD: the quotient's upper end step_up(fl_up(N~ + eN)/(D~ + eD)) is below 0:
+//     N~ + eN < -g + 2eN <= -(gamma(22) - 2·gamma(5)(1 + 8u))·S < -11u·S, and its
+//     quotient by D~ + eD <= 33·eD <= 166u·Σ|n_j d_j| + 2^-1016 lies below -2^-1073
+//     for S >= 2^-960·(1 + Σ|n_j d_j|).
+// A leaving ray's entry-type crossings (origin inside, moving inwards, t = N/D < 0) only
+// lower bound the entry, which t_min then dominates: nothing to bound there.
+inline constexpr double poly_leaving_margin = gamma<double>(22);
+inline Interval<double> crossing_enclosure_conservative(const PolyCrossing& c, int s) {
+    Interval<double> v = crossing_enclosure(c, s);
+    if (c.finite_N && c.finite_D && std::abs(c.D) <= 32 * c.eD) {
+        const Interval<double> w = divide_signed(around(c.N, c.eN, true), around(c.D, c.eD, true), s);
+        v = Interval<double>(std::max(v.lo, w.lo), std::min(v.hi, w.hi));
+    }
+    return v;
+}
+
 // The ray and the planes as a source of exact quotients (detail/certified.hpp): plane k's
 // crossing num_k/den_k (side ignored). Degree 2 in the inputs, so a comparison of two
 // crossings, sign(num_a·den_b - num_b·den_a), is degree 4: exact in Expansion for
@@ -293,7 +334,7 @@ template <class T> Hit<T> query(const Ray<T>& r, const PreparedPolyhedron<T>& p,
             if (!poly_inside(c, src, int(k))) return h;
             continue;
         }
-        const Interval<double> v = crossing_enclosure(c, s);
+        const Interval<double> v = crossing_enclosure_conservative(c, s);
         if (s < 0) {
             if (v.lo > lo) {
                 lo = v.lo;

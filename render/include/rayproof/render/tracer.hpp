@@ -157,13 +157,17 @@ struct SurfacePoint {
 //     Obb:  γ(12)·Σ_j|(p - c)_j·a_j| / |a| (o'_i: a difference, a product, two sums);
 //     Plane: γ(12)·(|offset| + Σ|n_i p_i|) / |n| (the numerator: a product, three sums);
 //     Polyhedron: the Plane's, for the face met (each plane's crossing is evaluated as a
-//           plane's; conservative's enclosure γ(5)·S is inside γ(12));
+//           plane's);
 //     Sphere: γ(24)·r (the fast mode's tangency band γ(8)·|Δ|, |Δ| ≈ r there).
 //   Conservative mode widens a plain evaluation by derived bounds (pbrt-v4's manner), and
 //   its answer's ends can lie further out than γ(3n) allows, so there K follows from the
 //   kernel's stated enclosures instead (tracer.cpp derives each): Sphere γ(105)·r, Plane
 //   γ(13)·(|offset| + Σ|n_i p_i|)/|n|, Obb γ(25)·Σ_j|(p - c)_j·a_j|/|a|, Aabb 0 (the
-//   widened slab value stays negative past the underflow floor); Polyhedron as above.
+//   widened slab value stays negative past the underflow floor), Polyhedron γ(22)·(|offset|
+//   + Σ|n_i p_i|)/|n| for the face met (ray_polyhedron.hpp, poly_leaving_margin: its
+//   enclosure of a crossing is 3(e_N + |q|·e_D)/|D| wide, and where D is within a few
+//   times its bound e_D also the quotient of the two enclosures, so a grazing ray leaving
+//   the face is answered miss on it from that distance).
 // The sum is then scaled by (1 + γ(4)) to cover the rounding of these very formulas.
 // The γ bounds hold only while no result underflows: a face at 0 pushed one ulp to
 // 2^-1074 gives a slab or plane quotient 2^-1074/d that rounds to -0, "hit at t = 0".
