@@ -10,6 +10,7 @@
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/types.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -43,8 +44,8 @@ namespace rayproof::detail {
 // 3·2^-1075, is then far below u·a, so |a~ - a| <= gamma(4)a) and R~ = fl(fl(r·r)·a~),
 //     |R~ - R| <= gamma(7)·R~ + 2^-1074·a~ + 2^-1074
 // (the 2^-1074·a~ from r·r underflowing). So D~ = fl(S~ - R~) > E proves S > R and
-// -D~ > E proves S < R, for E = fl(2·gamma(13)·ΣM~_j² + 2·gamma(7)·R~ + 2^-1072·a~) +
-// 2^-1000: the doubling covers the few roundings of E, of ΣM~² (each M~ = fl(|A~| + |B~|))
+// -D~ > E proves S < R, for E = fl(2·gamma(13)·ΣM~_j² + 2·gamma(7)·R~ + 2^-1072·max(a~,
+// 2^50)) + 2^-1000 (the max keeps the term normal, below): the doubling covers the few roundings of E, of ΣM~² (each M~ = fl(|A~| + |B~|))
 // and of D~ itself. An overflow makes E +inf (ΣM~² >= S~, R~ itself) and decides nothing.
 // Validity: every decision above rests on a finite bound, which an infinite or NaN
 // number among o, d, c and r makes +inf or NaN (each Δ_j and d_j is multiplied by
@@ -73,7 +74,12 @@ RAYPROOF_ALWAYS_INLINE SphereLineCertificate sphere_line_certificate(const doubl
         MM += M * M;
     }
     const double R = rr * a;
-    return {S - R, (g13 * MM + g7 * R + 0x1p-1072 * a) + eta};
+    // 2^-1072·max(a~, 2^50) >= 2^-1072·a~, so E only grows; and it is never subnormal
+    // (at least 2^-1022): 2^-1072·a~ itself is for every a~ below 2^50, and a subnormal
+    // result costs a microcode assist of about a hundred cycles on x86 (it took half the
+    // time of the certified verdict on uniform input). NaN stays NaN (max keeps a~ when
+    // the comparison is false), +inf stays +inf.
+    return {S - R, (g13 * MM + g7 * R + 0x1p-1072 * std::max(a, 0x1p50)) + eta};
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE int sphere_verdict_common(const Ray<T>& r, const Sphere<T>& s) {
