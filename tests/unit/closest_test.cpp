@@ -341,6 +341,10 @@ template <class T> struct Gen {
             default: return Aabb<T>{Vec3<T>(c - Vec3<T>::Ones()), Vec3<T>(c + Vec3<T>::Ones())};
         }
     }
+    // n random primitives into sc.
+    void fill(Scene<T>& sc, int n) {
+        for (int i = 0; i < n; ++i) sc.prims.push_back(primitive(sc));
+    }
     Ray<T> ray() {
         Ray<T> r{point(), Vec3<T>::Zero()};
         while (r.direction.isZero()) r.direction = Vec3<T>(point() - r.origin);
@@ -398,8 +402,7 @@ TYPED_TEST(Closest, RandomScenesAgreeWithThePerShapeQueries) {
     int hits = 0;
     for (int scene = 0; scene < 150; ++scene) {
         Scene<T> sc;
-        const int n = 1 + gen.pick(12);
-        for (int i = 0; i < n; ++i) sc.prims.push_back(gen.primitive(sc));
+        gen.fill(sc, 1 + gen.pick(12));
         const std::span<const Primitive<T>> p(sc.prims);
         for (int k = 0; k < 20; ++k) {
             const Ray<T> r = gen.ray();
@@ -428,8 +431,7 @@ TYPED_TEST(Closest, DirectedRoundingGivesTheSameAnswers) {
     int compared = 0;
     for (int scene = 0; scene < 40; ++scene) {
         Scene<T> sc;
-        const int n = 2 + gen.pick(10);
-        for (int i = 0; i < n; ++i) sc.prims.push_back(gen.primitive(sc));
+        gen.fill(sc, 2 + gen.pick(10));
         const std::span<const Primitive<T>> p(sc.prims);
         for (int k = 0; k < 10; ++k) {
             const Ray<T> r = gen.ray();
@@ -470,8 +472,7 @@ TYPED_TEST(Closest, GeneralPositionComputesNoSubnormal) {
     const auto raised = [] { return std::fetestexcept(FE_UNDERFLOW) != 0; };
     for (int scene = 0; scene < 60; ++scene) {
         Scene<T> sc;
-        const int n = 1 + gen.pick(12);
-        for (int i = 0; i < n; ++i) sc.prims.push_back(gen.primitive(sc));
+        gen.fill(sc, 1 + gen.pick(12));
         const std::span<const Primitive<T>> p(sc.prims);
         for (int k = 0; k < 10; ++k) {
             const Ray<T> r = gen.ray();
