@@ -855,9 +855,9 @@ private:
         // a ball of the tree: an invalid ball has no enclosing box). Empty when the tree
         // has no ball.
         const std::size_t in_tree = order_.size();
-        std::size_t n_balls = 0;
-        for (std::size_t p = 0; p < in_tree; ++p) n_balls += std::size_t(prims_[p].index() == 2);
-        if (n_balls > 0) {
+        const auto tree_end = prims_.begin() + std::ptrdiff_t(in_tree);
+        const auto is_ball = [](const Primitive<T>& p) { return std::holds_alternative<Sphere<T>>(p); };
+        if (std::any_of(prims_.begin(), tree_end, is_ball)) {
             const Sphere<T> none{Vec3<T>::Zero(), std::numeric_limits<T>::quiet_NaN()};
             balls_.assign(in_tree, none);
             for (std::size_t p = 0; p < in_tree; ++p)

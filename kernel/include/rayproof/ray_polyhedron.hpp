@@ -39,9 +39,10 @@
 //            [t_enter, t_exit] = [largest entry lower bound, smallest exit upper bound],
 //            which encloses the exact interval, so the verdict can only err towards hit.
 //            certified — crossing_enclosure's intervals filter each comparison of the
-//            pass (a crossing against the current entry or exit, entry against exit); what they
-//            cannot separate is decided exactly (detail/exact.hpp, detail/certified.hpp:
-//            sign(num_a·den_b - num_b·den_a)·sign(den_a)·sign(den_b), degree 4; against a
+//            pass (a crossing against the current entry or exit, entry against exit);
+//            what they cannot separate is decided exactly (detail/exact.hpp,
+//            detail/certified.hpp: sign(num_a·den_b - num_b·den_a)·sign(den_a)·
+//            sign(den_b), degree 4; against a
 //            limit sign(num - c·den)·sign(den), degree 3), in Shewchuk expansions, or
 //            BigDyadic beyond their safe range (2^±1000 scaling, denormals: there the
 //            bounds overflow, or their 2^-1022 floor swamps the values, and the filter
@@ -63,6 +64,7 @@
 #include <rayproof/ray_plane.hpp>
 #include <rayproof/types.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -183,9 +185,10 @@ inline Interval<double> crossing_enclosure(const PolyCrossing& c, int s) {
     return divide_signed(around(c.N, c.eN, c.finite_N), around(c.D, c.eD, c.finite_D), s);
 }
 
-// Conservative mode's enclosure of the crossing: crossing_enclosure's, and where |D~| <=
-// 32·eD also the outward-rounded quotient of the two enclosures (divide_signed), their
-// intersection (both enclose t). Near 0 the derived bound alone is wide: E >=
+// Conservative mode's enclosure of the crossing: crossing_enclosure's, and where 2·eD <
+// |D~| <= 32·eD (below, crossing_enclosure is that quotient already) also the
+// outward-rounded quotient of the two enclosures (divide_signed), their intersection
+// (both enclose t). Near 0 the derived bound alone is wide: E >=
 // 3|q|·eD/|D~|, above |q| itself when |D~| < 3·eD, so the interval reaches across 0
 // whatever N is; the quotient's end on the side of 0 keeps N's sign whenever N's
 // enclosure does. Certified mode keeps crossing_enclosure alone (its faithful rounding
@@ -215,7 +218,7 @@ inline Interval<double> crossing_enclosure(const PolyCrossing& c, int s) {
 inline constexpr double poly_leaving_margin = gamma<double>(22);
 inline Interval<double> crossing_enclosure_conservative(const PolyCrossing& c, int s) {
     Interval<double> v = crossing_enclosure(c, s);
-    if (c.finite_N && c.finite_D && std::abs(c.D) <= 32 * c.eD) {
+    if (c.finite_N && c.finite_D && std::abs(c.D) > 2 * c.eD && std::abs(c.D) <= 32 * c.eD) {
         const Interval<double> w = divide_signed(around(c.N, c.eN, true), around(c.D, c.eD, true), s);
         v = Interval<double>(std::max(v.lo, w.lo), std::min(v.hi, w.hi));
     }

@@ -45,8 +45,8 @@ namespace rayproof::detail {
 //     |R~ - R| <= gamma(7)·R~ + 2^-1074·a~ + 2^-1074
 // (the 2^-1074·a~ from r·r underflowing). So D~ = fl(S~ - R~) > E proves S > R and
 // -D~ > E proves S < R, for E = fl(2·gamma(13)·ΣM~_j² + 2·gamma(7)·R~ + 2^-1072·max(a~,
-// 2^50)) + 2^-1000 (the max keeps the term normal, below): the doubling covers the few roundings of E, of ΣM~² (each M~ = fl(|A~| + |B~|))
-// and of D~ itself. An overflow makes E +inf (ΣM~² >= S~, R~ itself) and decides nothing.
+// 2^50)) + 2^-1000 (the max keeps the term normal, below): the doubling covers the few
+// roundings of E, of ΣM~² (each M~ = fl(|A~| + |B~|)) and of D~ itself. An overflow makes E +inf (ΣM~² >= S~, R~ itself) and decides nothing.
 // Validity: every decision above rests on a finite bound, which an infinite or NaN
 // number among o, d, c and r makes +inf or NaN (each Δ_j and d_j is multiplied by
 // something in each bound, and 0·inf is NaN), and a~ >= 2^-1000 means d != 0, r >= 0 is
