@@ -23,7 +23,8 @@
 // stats() (every primitive in exactly one leaf or beside the tree, the counts), node
 // lane boxes equal to the exact union of what lies below them (so they enclose their
 // primitives' boxes), empty slots empty, and PreparedRay::with_range equal to a ray
-// prepared on that range. RAYPROOF_SEED=<n> replays a failure with its seed.
+// prepared on that range; the fast node test equal to the fast packet's lanes.
+// RAYPROOF_SEED=<n> replays a failure with its seed.
 #include "same_hit.hpp"
 #include "seeded.hpp"
 #include <rayproof/bvh.hpp>
@@ -614,6 +615,49 @@ TYPED_TEST(BvhTest, WithRangeEqualsPreparedOnTheRange) {
                 EXPECT_EQ(a.negative(i), b.negative(i));
             }
         }
+}
+
+// The fast node test (detail::bvh_node_fast) is the fast packet's lanes on a tree's own
+// boxes: on every node of random trees (empty slots included) and random rays with no
+// axis parallel and no slab value overflowing, the same mask, and on the hit lanes the
+// same entries, bit for bit, with the native and the portable backend alike.
+TYPED_TEST(BvhTest, FastNodeTestIsTheFastPacketsLanes) {
+    using T = typename TypeParam::type;
+    constexpr int W = TypeParam::width;
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::mt19937_64 g = make_rng();
+    std::uniform_real_distribution<double> u(-12, 12), t01(0, 1);
+    std::size_t lanes_hit = 0;
+    for (const int n : {9, 60, 600}) {
+        const Scene<T> s = random_scene<T>(g, n);
+        const Bvh<T, W> bvh(std::span<const Primitive<T>>(s.prims));
+        for (int k = 0; k < 40; ++k) {
+            Ray<T> r = k % 2 ? ray_to(v3<T>(u(g), u(g), u(g)), aim(s.prims[std::size_t(g() % s.prims.size())]))
+                             : Ray<T>{v3<T>(u(g), u(g), u(g)), v3<T>(u(g), u(g), u(g))};
+            if (k % 3 == 0) {
+                r.t_min = T(t01(g) * 4);
+                r.t_max = T(double(r.t_min) + t01(g) * 8);
+            }
+            const PreparedRay<T> pr(r);
+            if (detail::bvh_fast_filter_for(pr) != detail::BvhFilter::lean) continue;  // a zero component
+            SCOPED_TRACE(::testing::PrintToString(r));
+            for (const auto& node : bvh.nodes()) {
+                double t[std::size_t(W)], tp[std::size_t(W)], want[std::size_t(W)];
+                const std::uint32_t mask = detail::bvh_node_fast<detail::simd::native>(pr, node.box, t);
+                const std::uint32_t mask_p = detail::bvh_node_fast<detail::simd::portable>(pr, node.box, tp);
+                const auto l = detail::packet::fast_lanes<detail::simd::native, false>(pr, node.box);
+                l.enter.store_widened(want);
+                ASSERT_EQ(mask, l.ok.bits());
+                ASSERT_EQ(mask_p, mask);
+                for (int i = 0; i < W; ++i)
+                    if (mask >> i & 1) {
+                        ++lanes_hit;
+                        ASSERT_TRUE(same_bits(t[i], want[i]) && same_bits(tp[i], want[i])) << "lane " << i;
+                    }
+            }
+        }
+    }
+    EXPECT_GT(lanes_hit, 100u) << "the rays should meet enough lanes to matter";
 }
 
 #if defined(__x86_64__) || defined(_M_X64)

@@ -50,7 +50,8 @@
 //            subnormals under denormals-are-zero would otherwise give a box too small.
 // Traversal: one stack, near children first. Each node is answered by one packet
 //            query on the current range [t_min, t_limit] (PreparedRay::with_range, the
-//            reciprocals kept): fast mode its fast packet; the conservative and certified
+//            reciprocals kept): fast mode its fast packet's lanes (without the packet's
+//            checks, bvh_node_fast, where no axis is parallel); the conservative and certified
 //            modes the conservative packet's filter (bvh_node_conservative), whose mask
 //            contains every lane the exact ray meets on that range and whose entry
 //            enclosure's lower end (kept in double) bounds the lane's exact entry below.
@@ -254,11 +255,46 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_filter(const PreparedRay<T>& pr, c
 // (twice the lanes per register, K = 2·gamma_f(4), eta = 2^-126) where every reciprocal
 // is a normal float; otherwise, and for double trees, the double filter where every
 // double reciprocal is normal; else the scalar conservative query per lane.
-enum class BvhFilter : unsigned char { in_float, in_double, scalar };
+// Fast mode has its own two: lean (bvh_node_fast) where every reciprocal in T is normal
+// and finite (no axis parallel), else the fast packet's general lanes (scalar).
+enum class BvhFilter : unsigned char { in_float, in_double, scalar, lean };
 template <class T> RAYPROOF_ALWAYS_INLINE BvhFilter bvh_filter_for(const PreparedRay<T>& pr) noexcept {
     if constexpr (std::is_same_v<T, float>)
         if (packet::all_axes_usable<float>(pr)) return BvhFilter::in_float;
     return packet::all_axes_usable<double>(pr) ? BvhFilter::in_double : BvhFilter::scalar;
+}
+template <class T> RAYPROOF_ALWAYS_INLINE BvhFilter bvh_fast_filter_for(const PreparedRay<T>& pr) noexcept {
+    const bool lean = packet::axis_kind<T>(pr, 0) == 0 && packet::axis_kind<T>(pr, 1) == 0 &&
+                      packet::axis_kind<T>(pr, 2) == 0;
+    return lean ? BvhFilter::lean : BvhFilter::scalar;
+}
+
+// The fast node test of a valid ray whose reciprocals in T are all normal and finite
+// (bvh_fast_filter_for: lean), on a tree's lane boxes, each finite with lo <= hi or an
+// empty slot (lo = +inf, hi = -inf): the fast packet's lanes (packet::fast_lanes, the
+// same slab values (near - o)·inv and (far - o)·inv, clamped by max and min in the same
+// order) without its checks, which such boxes and reciprocals make redundant. A slab
+// value is a finite or infinite difference times a finite nonzero reciprocal, so never
+// NaN; an empty slot's entry is +inf and its exit -inf on every axis, so it is never
+// hit. Where no slab value overflows, the mask and the entries (in t) are fast_lanes'
+// own (bvh_test checks it); where one does, a lane fast_lanes drops may be kept here
+// (an entry of -inf or an exit of +inf leaves the clamp as it is): fast promises nothing
+// there, and a kept lane only costs a visit.
+template <class B, class T, int W>
+RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_fast(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
+                                                   double (&t)[std::size_t(W)]) noexcept {
+    using V = simd::Vec<T, W, B>;
+    const Ray<T>& r = pr.ray();
+    V enter = V::splat(r.t_min), exit = V::splat(r.t_max);
+    RAYPROOF_UNROLL3
+    for (int i = 0; i < 3; ++i) {
+        const bool neg = pr.negative(i);
+        const V o = V::splat(r.origin[i]), inv = V::splat(pr.inv(i));
+        enter = max((V::load(neg ? b.hi[i] : b.lo[i]) - o) * inv, enter);
+        exit = min((V::load(neg ? b.lo[i] : b.hi[i]) - o) * inv, exit);
+    }
+    enter.store_widened(t);
+    return (enter <= exit).bits();
 }
 
 // The conservative node test: the conservative packet's filter (ray_aabb_packet.hpp,
@@ -464,6 +500,8 @@ private:
                                                           detail::BvhFilter which,
                                                           double (&t)[std::size_t(W)]) noexcept {
         if constexpr (std::is_same_v<Mode, fast_t>) {
+            if (which == detail::BvhFilter::lean) [[likely]]
+                return detail::bvh_node_fast<detail::simd::native>(r, n.box, t);
             // The fast packet's lanes (ray_aabb_packet.hpp; r is valid), without face codes.
             const auto l = detail::packet::fast_lanes<detail::simd::native, false>(r, n.box);
             l.enter.store_widened(t);
@@ -527,7 +565,9 @@ private:
         PreparedRay<T> nr = narrowed(limit);
         if (!nr.valid()) return;
         double cut = double(nr.ray().t_max);
-        const detail::BvhFilter which = detail::bvh_filter_for(ray);  // nr's reciprocals are ray's
+        // nr's reciprocals are ray's
+        const detail::BvhFilter which =
+            std::is_same_v<Mode, fast_t> ? detail::bvh_fast_filter_for(ray) : detail::bvh_filter_for(ray);
 
         // cur: the lane being answered; the stack holds the lanes deferred, nearest on
         // top. A hit lane of a node test on the current range has its t_enter bound at
