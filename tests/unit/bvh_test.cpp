@@ -642,11 +642,11 @@ TYPED_TEST(BvhTest, FastNodeTestIsTheFastPacketsLanes) {
             if (detail::bvh_fast_filter_for(pr) != detail::BvhFilter::lean) continue;  // a zero component
             SCOPED_TRACE(::testing::PrintToString(r));
             for (const auto& node : bvh.nodes()) {
-                double t[std::size_t(W)], tp[std::size_t(W)], want[std::size_t(W)];
+                T t[std::size_t(W)], tp[std::size_t(W)], want[std::size_t(W)];
                 const std::uint32_t mask = detail::bvh_node_fast<detail::simd::native>(pr, node.box, t);
                 const std::uint32_t mask_p = detail::bvh_node_fast<detail::simd::portable>(pr, node.box, tp);
                 const auto l = detail::packet::fast_lanes<detail::simd::native, false>(pr, node.box);
-                l.enter.store_widened(want);
+                l.enter.store(want);
                 ASSERT_EQ(mask, l.ok.bits());
                 ASSERT_EQ(mask_p, mask);
                 for (int i = 0; i < W; ++i)

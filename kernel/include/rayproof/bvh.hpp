@@ -282,7 +282,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE BvhFilter bvh_fast_filter_for(const Pr
 // there, and a kept lane only costs a visit.
 template <class B, class T, int W>
 RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_fast(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
-                                                   double (&t)[std::size_t(W)]) noexcept {
+                                                   T (&t)[std::size_t(W)]) noexcept {
     using V = simd::Vec<T, W, B>;
     const Ray<T>& r = pr.ray();
     V enter = V::splat(r.t_min), exit = V::splat(r.t_max);
@@ -293,7 +293,7 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_fast(const PreparedRay<T>& pr, con
         enter = max((V::load(neg ? b.hi[i] : b.lo[i]) - o) * inv, enter);
         exit = min((V::load(neg ? b.lo[i] : b.hi[i]) - o) * inv, exit);
     }
-    enter.store_widened(t);
+    enter.store(t);
     return (enter <= exit).bits();
 }
 
@@ -495,16 +495,19 @@ private:
     // fast packet. Conservative and certified: the conservative packet's own filter
     // (detail::bvh_node_conservative), which needs the default environment: Known says
     // the caller established it, else it is checked per node.
+    // A node test's entries: fast mode's in T as computed (no widening of lanes that
+    // missed), the others' lower bounds in double (the filter may compute them so).
+    template <class Mode> using TEntry = std::conditional_t<std::is_same_v<Mode, fast_t>, T, double>;
     template <bool Known, class Mode>
     static RAYPROOF_ALWAYS_INLINE std::uint32_t node_test(const PreparedRay<T>& r, const Node& n, Mode,
                                                           detail::BvhFilter which,
-                                                          double (&t)[std::size_t(W)]) noexcept {
+                                                          TEntry<Mode> (&t)[std::size_t(W)]) noexcept {
         if constexpr (std::is_same_v<Mode, fast_t>) {
             if (which == detail::BvhFilter::lean) [[likely]]
                 return detail::bvh_node_fast<detail::simd::native>(r, n.box, t);
             // The fast packet's lanes (ray_aabb_packet.hpp; r is valid), without face codes.
             const auto l = detail::packet::fast_lanes<detail::simd::native, false>(r, n.box);
-            l.enter.store_widened(t);
+            l.enter.store(t);
             return l.ok.bits();
         } else {
             if (Known || detail::fp_env_is_default()) [[likely]]
@@ -590,19 +593,19 @@ private:
                 }
             } else {
                 const Node& n = nodes_[cur.first];
-                double t[std::size_t(W)];
+                TEntry<Mode> t[std::size_t(W)];
                 std::uint32_t mask = node_test<Known>(nr, n, mode, which, t);
                 if (mask != 0) {
                     const int i = std::countr_zero(mask);
                     mask &= mask - 1;
-                    const Entry a{n.first[i], n.count[i], t[i]};
+                    const Entry a{n.first[i], n.count[i], double(t[i])};
                     if (mask == 0) {  // one hit lane: answered next, no stack
                         cur = a;
                         continue;
                     }
                     const int j = std::countr_zero(mask);
                     mask &= mask - 1;
-                    const Entry b{n.first[j], n.count[j], t[j]};
+                    const Entry b{n.first[j], n.count[j], double(t[j])};
                     if (mask == 0) {  // two: the farther deferred (ties: the lower lane first)
                         const bool a_first = !(b.t < a.t);
                         const Entry& far = a_first ? b : a;
@@ -624,7 +627,7 @@ private:
                     insert(b);
                     for (std::uint32_t u = mask; u != 0; u &= u - 1) {
                         const int l = std::countr_zero(u);
-                        insert(Entry{n.first[l], n.count[l], t[l]});
+                        insert(Entry{n.first[l], n.count[l], double(t[l])});
                     }
                     for (int k = 0; k + 1 < m; ++k) {
                         prefetch(hits[k]);  // fetched while the nearest is answered
