@@ -22,9 +22,10 @@
 // same t, a thousand equal centroids (median splits), invalid rays. Beside the answers:
 // stats() (every primitive in exactly one leaf or beside the tree, the counts), node
 // lane boxes equal to the exact union of what lies below them (so they enclose their
-// primitives' boxes), empty slots empty, and PreparedRay::with_range equal to a ray
-// prepared on that range; the fast node test equal to the fast packet's lanes.
-// RAYPROOF_SEED=<n> replays a failure with its seed.
+// primitives' boxes), empty slots empty, a leaf in lane 0 starting its node's range of
+// positions, and PreparedRay::with_range equal to a ray prepared on that range; the
+// fast node test equal to the fast packet's lanes. RAYPROOF_SEED=<n> replays a failure
+// with its seed.
 #include "same_hit.hpp"
 #include "seeded.hpp"
 #include <rayproof/bvh.hpp>
@@ -314,16 +315,25 @@ template <class T, int W> void check_tree(const Bvh<T, W>& bvh, const std::vecto
             }
         }
     };
+    // lowest[id]: the lowest leaf position below node id. Lane 0 starts the node's range
+    // of positions (the build's invariant the traversal's ball prefetch relies on).
+    std::vector<std::uint32_t> lowest(nodes.size(), std::numeric_limits<std::uint32_t>::max());
     std::function<Box(std::uint32_t, int)> walk = [&](std::uint32_t id, int d) -> Box {
         ++reached;
         depth = std::max(depth, d);
         const auto& n = nodes[id];
         Box all;
+        const auto lowest_at_end = [&] {
+            if (n.count[0] > 0) {
+                EXPECT_EQ(n.first[0], lowest[id]) << "lane 0 of node " << id << " starts its range";
+            }
+        };
         for (int i = 0; i < W; ++i) {
             const Aabb<T> lane = n.box.box(i);
             Box below;
             if (n.count[i] > 0) {
                 ++leaves;
+                lowest[id] = std::min(lowest[id], n.first[i]);
                 for (std::uint32_t k = n.first[i]; k < n.first[i] + n.count[i]; ++k) {
                     const std::size_t p = order[k];
                     ++where[p];
@@ -335,6 +345,7 @@ template <class T, int W> void check_tree(const Bvh<T, W>& bvh, const std::vecto
             } else if (lane.lo[0] <= lane.hi[0]) {
                 EXPECT_GT(n.first[i], id) << "children come after their parent";
                 below = walk(n.first[i], d + 1);
+                lowest[id] = std::min(lowest[id], lowest[n.first[i]]);
             } else {
                 EXPECT_GT(lane.lo[0], lane.hi[0]);  // an empty slot stays empty on every axis
                 EXPECT_GT(lane.lo[1], lane.hi[1]);
@@ -348,6 +359,7 @@ template <class T, int W> void check_tree(const Bvh<T, W>& bvh, const std::vecto
             }
             all.add(lane.lo.data(), lane.hi.data());
         }
+        lowest_at_end();
         return all;
     };
     if (!nodes.empty()) walk(0, 1);

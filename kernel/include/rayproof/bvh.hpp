@@ -540,6 +540,17 @@ private:
         else prefetch(&prims_[e.first], e.count * sizeof(Primitive<T>));
     }
 
+    // A node's balls, fetched while the node is tested: its lane 0 starts the node's range
+    // of positions (the build splits a range into [begin, s) kept in lane 0 and [s, end)
+    // appended), so where lane 0 is a leaf of balls the W balls from there are the
+    // node's own when its lanes are all single-ball leaves (the lowest nodes) and its
+    // neighbours otherwise. A hint: no effect on any answer.
+    RAYPROOF_ALWAYS_INLINE void prefetch_balls(const Node& n) const noexcept {
+        const std::size_t p = n.first[0];
+        if (n.count[0] != 0 && p < balls_.size())
+            prefetch(&balls_[p], std::min(std::size_t(W), balls_.size() - p) * sizeof(Sphere<T>));
+    }
+
     // The stored primitive p's answer in the mode: from its compact copy in balls_ when
     // it is a ball (the same values, so the very Hit), else from prims_.
     template <class Mode>
@@ -593,6 +604,7 @@ private:
                 }
             } else {
                 const Node& n = nodes_[cur.first];
+                prefetch_balls(n);
                 TEntry<Mode> t[std::size_t(W)];
                 std::uint32_t mask = node_test<Known>(nr, n, mode, which, t);
                 if (mask != 0) {
@@ -818,7 +830,7 @@ private:
             // inner child's range is strictly smaller than the node's.
             Range child[std::size_t(W)];
             int n = 1;
-            child[0] = task.range;
+            child[0] = task.range;  // lane 0 keeps the range's begin (prefetch_balls)
             const std::uint32_t node_cap = std::uint32_t(W) * leaf_size;
             while (n < W) {
                 bool big = false;
