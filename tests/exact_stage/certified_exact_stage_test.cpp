@@ -60,7 +60,20 @@ template <class T, class F> struct SlabExactOnly {
     template <class E> E num(int i, int side) const { return f.template num<E>(i, side); }
     template <class E> E den(int i) const { return f.template den<E>(i); }
     bool safe() const { return f.safe(); }
+    auto scaled() const
+        requires requires { f.scaled(); }
+    {
+        return f.scaled();
+    }
     T faithful(int i, int side, const Interval<double>&, bool&) const { return exact_faithful<T>(*this, i, side); }
+};
+
+// A source's quotients without its scaled() (exact_compare then takes them as they are).
+template <class F> struct Unscaled {
+    const F& f;
+    template <class E> E num(int i, int side) const { return f.template num<E>(i, side); }
+    template <class E> E den(int i) const { return f.template den<E>(i); }
+    bool safe() const { return f.safe(); }
 };
 static_assert(SlabFrame<SlabExactOnly<double, AabbFrame<double>>, double>);
 
@@ -205,6 +218,83 @@ TYPED_TEST(CertifiedExactStage, Aabb) { run_shape<TypeParam, Aabb<TypeParam>>();
 TYPED_TEST(CertifiedExactStage, Obb) { run_shape<TypeParam, Obb<TypeParam>>(); }
 TYPED_TEST(CertifiedExactStage, Plane) { run_shape<TypeParam, Plane<TypeParam>>(); }
 TYPED_TEST(CertifiedExactStage, Sphere) { run_shape<TypeParam, Sphere<TypeParam>>(); }
+// The Aabb's exact comparisons at a safer scale (AabbScaledQuotients) decide as the
+// unscaled ones: on every valid case of every generator, every pair among the slab
+// values of the non-parallel axes and the constants t_min, t_max, 0, the slab values'
+// rounded estimates and their neighbours (near ties) has the same exact_compare sign
+// through the frame (scaled where it is not safe) and through its bare quotients; and
+// the scaled path is taken on many of the cases (extreme exponents, scaled integer
+// configurations).
+TEST(CertifiedExactStageDouble, AabbScaledComparisonsDecideAsUnscaled) {
+    using T = double;
+    int scaled_cases = 0;
+    on_valid_cases<T, Aabb<T>>("the comparisons", [&](const auto& c, const std::string& where, bool& answered) {
+        answered = true;
+        const detail::AabbFrame<T> f(c.ray, c.shape);
+        const detail::Unscaled<detail::AabbFrame<T>> bare{f};
+        scaled_cases += !f.safe() && f.scaled().has_value();
+        std::vector<detail::SlabRef> refs{{-1, 0, c.ray.t_min}, {-1, 0, c.ray.t_max}, {-1, 0, 0.0}};
+        for (int i = 0; i < 3; ++i) {
+            if (c.ray.direction[i] == 0) continue;
+            for (int side = 0; side < 2; ++side) {
+                refs.push_back({i, side, 0});
+                const double est = (double(side ? c.shape.hi[i] : c.shape.lo[i]) - double(c.ray.origin[i])) /
+                                   double(c.ray.direction[i]);
+                if (std::isfinite(est))
+                    for (const double v : {est, std::nextafter(est, -HUGE_VAL), std::nextafter(est, HUGE_VAL)})
+                        refs.push_back({-1, 0, v});
+            }
+        }
+        for (const auto& a : refs)
+            for (const auto& b : refs) {
+                if (a.axis < 0 && b.axis < 0) continue;
+                ASSERT_EQ(detail::exact_compare(f, a, b), detail::exact_compare(bare, a, b))
+                    << where << ": " << c.ray << " vs " << c.shape << "\n  refs (" << a.axis << ", " << a.side << ", "
+                    << a.c << ") and (" << b.axis << ", " << b.side << ", " << b.c << ")";
+            }
+    });
+    EXPECT_GT(scaled_cases, 100) << "the scaled comparisons should be exercised";
+}
+
+// The sphere's exact signs on the rescaled input (SphereQuadratic, where the given one
+// is not safe for expansions) are those on the given input: on every valid case of
+// every generator, sign q(t) and sign(a t + b) at t_min, 0, t_max, the estimated roots
+// and their neighbours, and the discriminant's sign; and the rescaling applies to many
+// of the cases (extreme exponents, scaled integer configurations).
+TEST(CertifiedExactStageDouble, SphereRescaledSignsAreTheGivenOnes) {
+    using T = double;
+    int rescalable = 0;
+    on_valid_cases<T, Sphere<T>>("the signs", [&](const auto& c, const std::string& where, bool& answered) {
+        answered = true;
+        const detail::SphereQuadratic<T> q(c.ray, c.shape);
+        detail::ExponentSpan positions, directions;
+        bool safe = detail::expansion_safe(c.shape.radius);
+        positions.add(c.shape.radius);
+        for (int j = 0; j < 3; ++j) {
+            positions.add(c.ray.origin[j]);
+            positions.add(c.shape.center[j]);
+            directions.add(c.ray.direction[j]);
+            safe = safe && detail::expansion_safe(c.ray.origin[j]) && detail::expansion_safe(c.shape.center[j]) &&
+                   detail::expansion_safe(c.ray.direction[j]);
+        }
+        rescalable += !safe && positions.safe_shift() && directions.safe_shift();
+        const std::string what = where + ": " + ::testing::PrintToString(c.ray) + " vs " + ::testing::PrintToString(c.shape);
+        ASSERT_EQ(q.sign_discriminant(), q.sign_discriminant(false)) << what;
+        std::vector<double> ts{0.0};
+        for (const T t : {c.ray.t_min, c.ray.t_max})
+            if (std::isfinite(t)) ts.push_back(t);
+        const auto [r0, r1] = q.roots(q.discriminant());
+        for (const double m : {r0.mid(), r1.mid()})
+            if (std::isfinite(m))
+                for (const double t : {m, std::nextafter(m, -HUGE_VAL), std::nextafter(m, HUGE_VAL)}) ts.push_back(t);
+        for (const double t : ts) {
+            ASSERT_EQ(q.sign_at(t), q.sign_at(t, false)) << what << ", t = " << t;
+            ASSERT_EQ(q.sign_slope(t), q.sign_slope(t, false)) << what << ", t = " << t;
+        }
+    });
+    EXPECT_GT(rescalable, 100) << "the rescaled signs should be exercised";
+}
+
 TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {
     using T = TypeParam;
     common_agrees_with_general<T, Aabb<T>>([](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_common(r, b); },

@@ -30,8 +30,8 @@
 //            enclosure [t~ - K|t~|, t~ + K|t~|] with K = 2·gamma(3), which covers
 //            gamma(3)/(1 - gamma(3))|t~| and the two roundings of its own ends (K|t~|(1
 //            - u) - u|t~|(1 + K) >= gamma(3)/(1 - gamma(3))|t~|), valid while 1/d is
-//            normal and t~ is finite and normal (or t~ == 0 from p == o); otherwise an
-//            outward-rounded interval division is used. Parallel axes are decided
+//            normal and t~ is finite and normal (or t~ == 0 from p == o), decided per
+//            slab value; otherwise an outward-rounded interval division is used. Parallel axes are decided
 //            exactly (comparisons of floats).
 //            certified — the same enclosures decide every comparison they separate;
 //            overlapping ones are decided by exact arithmetic (detail/exact.hpp). The
@@ -49,7 +49,12 @@
 //            else, and every comparison its enclosures cannot separate, to the general
 //            path (slab_certified on AabbFrame), whose faithful rounding is the
 //            compensated correction of faithful_slab_value (valid while |s|, |t~| >=
-//            2^-960) and exact arithmetic beyond.
+//            2^-960) and exact arithmetic beyond. Its exact comparisons run on
+//            expansions where the input is within their safe range, and otherwise,
+//            where the positions and the directions each span at most 199 binades, on
+//            the same quotients with positions and directions rescaled by powers of two
+//            into it (AabbScaledQuotients: exact, and every comparison keeps its sign);
+//            only the rest goes to BigDyadic.
 //            For float, every step runs in double: a faithfully rounded double rounded
 //            to nearest float is a faithfully rounded float.
 //            Contraction (detail/eft.hpp): the enclosures are class C1, the products
@@ -193,6 +198,55 @@ template <class T> std::optional<T> faithful_slab_value(T p, T o, T d) {
     return faithful_to<T>(f.t);
 }
 
+// The slab values of a double box and ray for the exact stage at a safer scale: every
+// position (o_i, lo_i, hi_i) multiplied by 2^sp and every direction d_i by 2^sd, so that
+// each quotient (p - o_i)/d_i is 2^(sp - sd) = 2^shift() times the frame's. Only axes
+// with d_i != 0 count (a parallel axis has no slab value). With E_p the largest and e_p
+// the smallest binary exponent (ilogb) of the nonzero positions, sp = 99 - E_p puts
+// every nonzero position in [2^(99 - (E_p - e_p)), 2^100); likewise sd for the
+// directions (exact.hpp, ExponentSpan). Where both spans E - e are at most 199, every
+// nonzero scaled value lies in [2^-100, 2^100], the Expansion type's safe range
+// (expansion_safe), and each product by a power of two is exact (its result is a
+// normal double). The grazing
+// cases that are integer configurations scaled by a large or tiny power of two, which
+// the Expansion type refused, are then decided with it instead of BigDyadic.
+class AabbScaledQuotients {
+public:
+    template <class T> static std::optional<AabbScaledQuotients> make(const T* o, const T* d, const Aabb<T>& b) {
+        ExponentSpan positions, directions;
+        for (int i = 0; i < 3; ++i) {
+            if (d[i] == 0) continue;
+            directions.add(double(d[i]));
+            positions.add(double(o[i]));
+            positions.add(double(b.lo[i]));
+            positions.add(double(b.hi[i]));
+        }
+        const std::optional<int> sp = positions.safe_shift(), sd = directions.safe_shift();
+        if (!sp || !sd || directions.hi < directions.lo) return std::nullopt;  // too wide, or every axis parallel
+        return AabbScaledQuotients(o, d, b, *sp, *sd);
+    }
+
+    int shift() const { return shift_; }
+    // Axes with d_i != 0 only (as every slab value).
+    template <class E> E num(int i, int side) const { return E(p_[i][side]) - E(o_[i]); }
+    template <class E> E den(int i) const { return E(d_[i]); }
+    bool safe() const { return true; }
+
+private:
+    // A parallel axis's values are scaled too but never used (they may leave the range).
+    template <class T>
+    AabbScaledQuotients(const T* o, const T* d, const Aabb<T>& b, int sp, int sd) : shift_(sp - sd) {
+        for (int i = 0; i < 3; ++i) {
+            d_[i] = times_pow2(double(d[i]), sd);
+            o_[i] = times_pow2(double(o[i]), sp);
+            p_[i][0] = times_pow2(double(b.lo[i]), sp);
+            p_[i][1] = times_pow2(double(b.hi[i]), sp);
+        }
+    }
+    double p_[3][2], o_[3], d_[3];
+    int shift_;
+};
+
 // The slab frame of an axis-aligned box (see detail/slab_certified.hpp): the slab
 // values are (p - o_i)/d_i with p = lo_i (side 0) or hi_i (side 1).
 template <class T> class AabbFrame {
@@ -207,20 +261,23 @@ private:
     AabbFrame(const Ray<T>& r, const Aabb<T>& b, Rinv rinv) : o_(r.origin.data()), d_(r.direction.data()), b_(&b) {
         // K = 2·gamma(3): see the header comment.
         constexpr double K = 2 * gamma<double>(3);
-        ok_ = true;
+        // ok_[i][side]: the enclosure below holds for that slab value (each depends on
+        // its own reciprocal and value only).
         for (int i = 0; i < 3; ++i) {
+            ok_[i][0] = ok_[i][1] = true;
             if (d_[i] == 0) continue;
             double inv;
             if constexpr (std::is_null_pointer_v<Rinv>)
                 inv = 1.0 / double(d_[i]);
             else
                 inv = rinv[i];
-            ok_ &= std::abs(inv) >= std::numeric_limits<double>::min() && std::abs(inv) <= std::numeric_limits<double>::max();
+            const bool inv_ok =
+                std::abs(inv) >= std::numeric_limits<double>::min() && std::abs(inv) <= std::numeric_limits<double>::max();
             for (int side = 0; side < 2; ++side) {
                 const double s = double(plane(i, side)) - double(o_[i]);
                 const double t = s * inv;
                 const double a = std::abs(t);
-                ok_ &= (a >= 0x1p-1000 && a <= std::numeric_limits<double>::max()) || s == 0;
+                ok_[i][side] = inv_ok && ((a >= 0x1p-1000 && a <= std::numeric_limits<double>::max()) || s == 0);
                 t_[i][side] = t;
                 e_[i][side] = a * K;
             }
@@ -231,9 +288,9 @@ public:
     int den_sign(int i) const { return (d_[i] > 0) - (d_[i] < 0); }
     bool inside_parallel(int i) const { return b_->lo[i] <= o_[i] && o_[i] <= b_->hi[i]; }
     Interval<double> enclose(int i, int side) const {
-        if (ok_) return {t_[i][side] - e_[i][side], t_[i][side] + e_[i][side]};
+        if (ok_[i][side]) return {t_[i][side] - e_[i][side], t_[i][side] + e_[i][side]};
         const double s = double(plane(i, side)) - double(o_[i]);
-        return Interval<double>(step_down(s), step_up(s)) / Interval<double>(double(d_[i]));
+        return divide_by_point(Interval<double>(step_down(s), step_up(s)), double(d_[i]));
     }
     template <class E> E num(int i, int side) const { return E(double(plane(i, side))) - E(double(o_[i])); }
     template <class E> E den(int i) const { return E(double(d_[i])); }
@@ -243,6 +300,16 @@ public:
                 !expansion_safe(b_->hi[i]))
                 return false;
         return true;
+    }
+    // The same slab values at a scale the Expansion type is safe at, where one exists
+    // (exact_compare's comparisons use it when safe() is false). Made on first use, once
+    // per frame (a query may compare several times).
+    const std::optional<AabbScaledQuotients>& scaled() const {
+        if (!scaled_made_) {
+            scaled_ = AabbScaledQuotients::make(o_, d_, *b_);
+            scaled_made_ = true;
+        }
+        return scaled_;
     }
     T faithful(int i, int side, const Interval<double>&, bool& went_exact) const {
         if (const std::optional<T> t = faithful_slab_value<T>(plane(i, side), o_[i], d_[i])) return *t;
@@ -256,7 +323,9 @@ private:
     const T* d_;
     const Aabb<T>* b_;
     double t_[3][2], e_[3][2];
-    bool ok_;
+    bool ok_[3][2];
+    mutable bool scaled_made_ = false;
+    mutable std::optional<AabbScaledQuotients> scaled_;
 };
 
 static_assert(SlabFrame<AabbFrame<float>, float> && SlabFrame<AabbFrame<double>, double>);

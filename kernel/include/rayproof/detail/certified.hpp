@@ -131,11 +131,26 @@ struct SlabRef {
     double c;
 };
 
+// A source may also offer scaled(): where it is not safe() for the Expansion type, an
+// optional source of the same quotients times 2^shift() (shift() an int), each num and
+// den multiplied by a power of two chosen to bring them into the safe range. A sign
+// of the difference of two quotients, or of a quotient and a constant c scaled alike,
+// is the same for the scaled values (2^shift > 0); a constant whose scaled value is not
+// exact leaves the comparison to the source itself.
 template <ExactQuotients Source> int exact_compare(const Source& f, const SlabRef& a, const SlabRef& b) {
     // ±inf constants (t_min = -inf, t_max = +inf) against finite quotients.
     if (a.axis < 0 && std::isinf(a.c)) return a.c > 0 ? 1 : -1;
     if (b.axis < 0 && std::isinf(b.c)) return b.c > 0 ? -1 : 1;
     if (a.axis < 0 && b.axis < 0) return (a.c > b.c) - (a.c < b.c);
+    if constexpr (requires { f.scaled(); }) {
+        if (!f.safe())
+            if (const auto& s = f.scaled()) {
+                SlabRef sa = a, sb = b;
+                if ((a.axis >= 0 || scale_exactly(a.c, s->shift(), sa.c)) &&
+                    (b.axis >= 0 || scale_exactly(b.c, s->shift(), sb.c)))
+                    return exact_compare(*s, sa, sb);
+            }
+    }
     const std::optional<int> s = with_exact(f.safe(), [&](auto tag) -> std::optional<int> {
         using E = typename decltype(tag)::type;
         if (a.axis < 0) {

@@ -36,6 +36,7 @@
 #pragma once
 
 #include <rayproof/detail/eft.hpp>
+#include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/limbs.hpp>
 #include <rayproof/detail/rounding.hpp>
 
@@ -589,6 +590,36 @@ template <class Derived> bool expansion_safe(const Eigen::DenseBase<Derived>& m)
         for (Eigen::Index i = 0; i < m.rows(); ++i)
             if (!expansion_safe(m(i, j))) return false;
     return true;
+}
+
+// Rescaling into the safe range. A predicate whose inputs fall in groups that scale
+// alike (every position by 2^sp, every direction by 2^sd, say) has a sign that
+// changes by a positive factor only, so it can be decided on the rescaled inputs. The
+// binary exponents of a group's nonzero values, and the power of two that puts them all
+// in [2^-100, 2^100) when they span at most 199 binades: s = 99 - the largest exponent
+// (the smallest one then becomes >= -100). Each product x·2^s is then a normal double,
+// exact (times_pow2, float_util.hpp: |s| <= 99 + 1074).
+struct ExponentSpan {
+    int hi = std::numeric_limits<int>::min(), lo = std::numeric_limits<int>::max();
+    void add(double x) noexcept {
+        if (x == 0) return;
+        const int k = binary_exponent(x);
+        hi = std::max(hi, k);
+        lo = std::min(lo, k);
+    }
+    // The shift, or none when the group is too wide; 0 for a group of zeros only.
+    std::optional<int> safe_shift() const noexcept {
+        if (hi < lo) return 0;
+        if (hi - lo > 199) return std::nullopt;
+        return 99 - hi;
+    }
+};
+
+// c·2^k into out when that product is a finite double that loses no bit (the round
+// trip checks the subnormal range); false otherwise.
+inline bool scale_exactly(double c, int k, double& out) {
+    out = std::ldexp(c, k);
+    return std::isfinite(out) && std::ldexp(out, -k) == c;
 }
 
 // ===================================================================================

@@ -1,11 +1,14 @@
-// rayproof/detail/float_util.hpp — the compiler hints of the hot paths, infinity and a
-// finiteness test. The rounding primitives (u, gamma(n), stepping) live in
+// rayproof/detail/float_util.hpp — the compiler hints of the hot paths, infinity, a
+// finiteness test, and a double's binary exponent and exact scaling by powers of two
+// from its bits (no library call). The rounding primitives (u, gamma(n), stepping) live in
 // detail/rounding.hpp.
 #pragma once
 
 #include <rayproof/detail/fp_model.hpp>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 // Inlining and unrolling hints for the few hot straight-line routines whose speed is
@@ -31,6 +34,27 @@ template <class T> inline constexpr T inf = std::numeric_limits<T>::infinity();
 
 template <class T> inline bool finite3(const T* v) {
     return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+// ilogb(x) for a finite nonzero double x, subnormals included (their true exponent,
+// down to -1074).
+inline int binary_exponent(double x) noexcept {
+    const auto b = std::bit_cast<std::uint64_t>(x);
+    const int e = int((b >> 52) & 0x7ff);
+    if (e != 0) return e - 1023;
+    return (63 - std::countl_zero(b & ((std::uint64_t(1) << 52) - 1))) - 1074;
+}
+
+// 2^j for -1022 <= j <= 1023, from its bits.
+inline double pow2(int j) noexcept { return std::bit_cast<double>(std::uint64_t(j + 1023) << 52); }
+
+// x·2^k for -2044 <= k <= 2046, as two products by normal powers of two: exact where the
+// result is a normal double (or 0). For k >= 0 the intermediate lies between x and the
+// result in magnitude (no underflow, no overflow before the result's); for k < 0 it
+// lies between the result and x (no underflow before the result's).
+inline double times_pow2(double x, int k) noexcept {
+    const int h = k / 2;
+    return (x * pow2(h)) * pow2(k - h);
 }
 
 }  // namespace rayproof::detail

@@ -71,61 +71,121 @@ public:
         return SphereResidual(double3(r_->origin), double3(r_->direction), double3(s_->center), double(s_->radius));
     }
 
-    // Exact signs.
-    int sign_at(double t) const {  // sign q(t), t finite
-        return exact_sign([&](auto tag) {
+    // Exact signs. Where the input is not safe for the Expansion type (extreme exponents)
+    // they are taken, where possible, on the input rescaled into its safe range
+    // (exact.hpp, ExponentSpan): the positions o, c and the radius by 2^sp, the
+    // direction by 2^sd, and t by 2^(sp - sd) (when exact), which multiplies q(t) by
+    // 2^(2sp), a t + b by 2^(sp + sd) and b² - a c' by 2^(2sp + 2sd), signs unchanged.
+    // rescale = false keeps the input as it is (the tests compare the two).
+    int sign_at(double t, bool rescale = true) const {  // sign q(t), t finite
+        return sign_of(rescale, t, [](const Values& v, double u, auto tag) {
             using E = typename decltype(tag)::type;
-            const E et(t);
+            const E et(u);
             E s(0.0);
             for (int j = 0; j < 3; ++j) {
-                const E v = E(double(r_->origin[j])) - E(double(s_->center[j])) + et * E(double(r_->direction[j]));
-                s = s + v * v;
+                const E w = E(v.o[j]) - E(v.c[j]) + et * E(v.d[j]);
+                s = s + w * w;
             }
-            const E rad(double(s_->radius));
+            const E rad(v.r);
             return s - rad * rad;
         });
     }
-    int sign_slope(double t) const {  // sign(a t + b), t finite
-        return exact_sign([&](auto tag) {
+    int sign_slope(double t, bool rescale = true) const {  // sign(a t + b), t finite
+        return sign_of(rescale, t, [](const Values& v, double u, auto tag) {
             using E = typename decltype(tag)::type;
-            return ea<E>() * E(t) + eb<E>();
+            return ea<E>(v) * E(u) + eb<E>(v);
         });
     }
-    int sign_discriminant() const {  // sign(b² - a c')
-        return exact_sign([&](auto tag) {
+    int sign_discriminant(bool rescale = true) const {  // sign(b² - a c')
+        return sign_of(rescale, 0.0, [](const Values& v, double, auto tag) {
             using E = typename decltype(tag)::type;
-            const E b = eb<E>();
+            const E b = eb<E>(v);
             E c(0.0);
             for (int j = 0; j < 3; ++j) {
-                const E dj = E(double(r_->origin[j])) - E(double(s_->center[j]));
+                const E dj = E(v.o[j]) - E(v.c[j]);
                 c = c + dj * dj;
             }
-            const E rad(double(s_->radius));
+            const E rad(v.r);
             c = c - rad * rad;
-            return b * b - ea<E>() * c;
+            return b * b - ea<E>(v) * c;
         });
     }
 
 private:
-    template <class E> E ea() const {
+    // The input in double, as given or rescaled.
+    struct Values {
+        double o[3], c[3], d[3], r;
+        int shift;  // t's scale: sp - sd
+    };
+    Values given() const {
+        Values v;
+        for (int j = 0; j < 3; ++j) {
+            v.o[j] = double(r_->origin[j]);
+            v.c[j] = double(s_->center[j]);
+            v.d[j] = double(r_->direction[j]);
+        }
+        v.r = double(s_->radius);
+        v.shift = 0;
+        return v;
+    }
+    // The rescaled input where the positions and the directions each span at most 199
+    // binades; made on first use.
+    const std::optional<Values>& rescaled() const {
+        if (!rescaled_made_) {
+            rescaled_made_ = true;
+            ExponentSpan positions, directions;
+            for (int j = 0; j < 3; ++j) {
+                positions.add(double(r_->origin[j]));
+                positions.add(double(s_->center[j]));
+                directions.add(double(r_->direction[j]));
+            }
+            positions.add(double(s_->radius));
+            const std::optional<int> sp = positions.safe_shift(), sd = directions.safe_shift();
+            if (sp && sd) {
+                Values v = given();
+                for (int j = 0; j < 3; ++j) {
+                    v.o[j] = times_pow2(v.o[j], *sp);
+                    v.c[j] = times_pow2(v.c[j], *sp);
+                    v.d[j] = times_pow2(v.d[j], *sd);
+                }
+                v.r = times_pow2(v.r, *sp);
+                v.shift = *sp - *sd;
+                rescaled_ = v;
+            }
+        }
+        return rescaled_;
+    }
+    // The exact sign of value(values, t, tag): on the rescaled input where the given one
+    // is not safe and t scales exactly, else on the given one.
+    template <class F> int sign_of(bool rescale, double t, F&& value) const {
+        if (rescale && !safe())
+            if (const std::optional<Values>& v = rescaled()) {
+                double u;
+                if (scale_exactly(t, v->shift, u))
+                    return detail::exact_sign(true, [&](auto tag) { return value(*v, u, tag); });
+            }
+        const Values v = given();
+        return detail::exact_sign(safe(), [&](auto tag) { return value(v, t, tag); });
+    }
+    template <class E> static E ea(const Values& v) {
         E s(0.0);
-        for (int j = 0; j < 3; ++j) s = s + E(double(r_->direction[j])) * E(double(r_->direction[j]));
+        for (int j = 0; j < 3; ++j) s = s + E(v.d[j]) * E(v.d[j]);
         return s;
     }
-    template <class E> E eb() const {
+    template <class E> static E eb(const Values& v) {
         E s(0.0);
-        for (int j = 0; j < 3; ++j)
-            s = s + E(double(r_->direction[j])) * (E(double(r_->origin[j])) - E(double(s_->center[j])));
+        for (int j = 0; j < 3; ++j) s = s + E(v.d[j]) * (E(v.o[j]) - E(v.c[j]));
         return s;
     }
     bool safe() const {
         return expansion_safe(r_->origin) && expansion_safe(r_->direction) && expansion_safe(s_->center) &&
                expansion_safe(s_->radius);
     }
-    template <class F> int exact_sign(F&& value) const { return detail::exact_sign(safe(), value); }
     const Ray<T>* r_;
     const Sphere<T>* s_;
     I delta_[3], a_, b_, c_;
+    mutable bool rescaled_made_ = false;
+    mutable std::optional<Values> rescaled_;
 };
 
 }  // namespace rayproof::detail
