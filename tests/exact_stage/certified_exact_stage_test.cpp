@@ -259,11 +259,12 @@ TEST(CertifiedExactStageDouble, AabbScaledComparisonsDecideAsUnscaled) {
 // The sphere's exact signs on the rescaled input (SphereQuadratic, where the given one
 // is not safe for expansions) are those on the given input: on every valid case of
 // every generator, sign q(t) and sign(a t + b) at t_min, 0, t_max, the estimated roots
-// and their neighbours, and the discriminant's sign; and the rescaling applies to many
-// of the cases (extreme exponents, scaled integer configurations).
+// and their neighbours, and the discriminant's sign; the residual (rescaled alike)
+// decides only those signs; and the rescaling applies to many of the cases (extreme
+// exponents, scaled integer configurations).
 TEST(CertifiedExactStageDouble, SphereRescaledSignsAreTheGivenOnes) {
     using T = double;
-    int rescalable = 0;
+    int rescalable = 0, residual_decided = 0;
     on_valid_cases<T, Sphere<T>>("the signs", [&](const auto& c, const std::string& where, bool& answered) {
         answered = true;
         const detail::SphereQuadratic<T> q(c.ray, c.shape);
@@ -287,12 +288,20 @@ TEST(CertifiedExactStageDouble, SphereRescaledSignsAreTheGivenOnes) {
         for (const double m : {r0.mid(), r1.mid()})
             if (std::isfinite(m))
                 for (const double t : {m, std::nextafter(m, -HUGE_VAL), std::nextafter(m, HUGE_VAL)}) ts.push_back(t);
+        const auto residual = q.residual();
         for (const double t : ts) {
-            ASSERT_EQ(q.sign_at(t), q.sign_at(t, false)) << what << ", t = " << t;
+            const int s = q.sign_at(t, false);
+            ASSERT_EQ(q.sign_at(t), s) << what << ", t = " << t;
             ASSERT_EQ(q.sign_slope(t), q.sign_slope(t, false)) << what << ", t = " << t;
+            const int r = residual.sign_at(t);
+            if (r != 2) {
+                ASSERT_EQ(r, s) << what << ", t = " << t << ": the residual's sign";
+                ++residual_decided;
+            }
         }
     });
     EXPECT_GT(rescalable, 100) << "the rescaled signs should be exercised";
+    EXPECT_GT(residual_decided, 100) << "the residual should decide some of them";
 }
 
 TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {

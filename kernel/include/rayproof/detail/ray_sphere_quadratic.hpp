@@ -65,10 +65,29 @@ public:
     }
     I slope(double t) const { return a_ * I(t) + b_; }  // a t + b, half the derivative
 
-    // q in double-word arithmetic with a proven bound: its sign_at(t) is sign q(t), or 2
-    // when the bound cannot decide (t finite). Built by the caller once per query.
-    SphereResidual residual() const {
-        return SphereResidual(double3(r_->origin), double3(r_->direction), double3(s_->center), double(s_->radius));
+    // q in double-word arithmetic with a proven bound (SphereResidual): its sign_at(t) is
+    // sign q(t), or 2 when the bound cannot decide (t finite). Built by the caller once
+    // per query. Where the input is not safe for expansions it is built on the rescaled
+    // input of the exact signs below (the same sign at the rescaled t), whose terms then
+    // lie well inside the double range: at the given extreme scale they overflow its
+    // guard or sink below the bound's absolute floor (2^-1000), and nothing is decided.
+    struct Residual {
+        SphereResidual res;
+        int shift;  // t's scale
+        int sign_at(double t) const {
+            if (shift == 0) return res.sign_at(t);
+            double u;
+            return scale_exactly(t, shift, u) ? res.sign_at(u) : 2;
+        }
+    };
+    Residual residual() const {
+        const auto of = [](const Values& v) {
+            return Residual{SphereResidual({v.o[0], v.o[1], v.o[2]}, {v.d[0], v.d[1], v.d[2]}, {v.c[0], v.c[1], v.c[2]}, v.r),
+                            v.shift};
+        };
+        if (!safe())
+            if (const std::optional<Values>& v = rescaled()) return of(*v);
+        return of(given());
     }
 
     // Exact signs. Where the input is not safe for the Expansion type (extreme exponents)
