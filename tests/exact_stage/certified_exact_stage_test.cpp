@@ -259,9 +259,10 @@ TEST(CertifiedExactStageDouble, AabbScaledComparisonsDecideAsUnscaled) {
 // The sphere's exact signs on the rescaled input (SphereQuadratic, where the given one
 // is not safe for expansions) are those on the given input: on every valid case of
 // every generator, sign q(t) and sign(a t + b) at t_min, 0, t_max, the estimated roots
-// and their neighbours, and the discriminant's sign; the residual (rescaled alike)
-// decides only those signs; and the rescaling applies to many of the cases (extreme
-// exponents, scaled integer configurations).
+// and their neighbours, the vertex and its neighbours, and the discriminant's sign; the
+// residual (rescaled alike) decides only those signs; the slope's sign from the
+// vertex is the exact one at every such t; and the rescaling applies to many of the
+// cases (extreme exponents, scaled integer configurations).
 TEST(CertifiedExactStageDouble, SphereRescaledSignsAreTheGivenOnes) {
     using T = double;
     int rescalable = 0, residual_decided = 0;
@@ -289,10 +290,15 @@ TEST(CertifiedExactStageDouble, SphereRescaledSignsAreTheGivenOnes) {
             if (std::isfinite(m))
                 for (const double t : {m, std::nextafter(m, -HUGE_VAL), std::nextafter(m, HUGE_VAL)}) ts.push_back(t);
         const auto residual = q.residual();
+        const auto vertex = q.vertex();
+        for (const double m : {vertex.f, std::nextafter(vertex.f, -HUGE_VAL), std::nextafter(vertex.f, HUGE_VAL)})
+            if (std::isfinite(m)) ts.push_back(m);
         for (const double t : ts) {
             const int s = q.sign_at(t, false);
             ASSERT_EQ(q.sign_at(t), s) << what << ", t = " << t;
-            ASSERT_EQ(q.sign_slope(t), q.sign_slope(t, false)) << what << ", t = " << t;
+            const int slope = q.sign_slope(t, false);
+            ASSERT_EQ(q.sign_slope(t), slope) << what << ", t = " << t;
+            ASSERT_EQ(vertex.slope_sign(t), slope) << what << ", t = " << t << ": the vertex's slope sign";
             const int r = residual.sign_at(t);
             if (r != 2) {
                 ASSERT_EQ(r, s) << what << ", t = " << t << ": the residual's sign";

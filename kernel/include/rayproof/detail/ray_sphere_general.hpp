@@ -41,12 +41,17 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
         RAYPROOF_COUNT_EXACT(went_exact);
         return q.sign_at(double(t));
     };
+    // The vertex, exact, on the first slope its interval leaves undecided.
+    std::optional<decltype(q.vertex())> vertex;
     auto slope_sign = [&](T t) {
         if (std::isinf(t)) return t > 0 ? 1 : -1;
         const int s = q.slope(double(t)).certain_sign();
         if (s != 2) return s;
-        RAYPROOF_COUNT_EXACT(went_exact);
-        return q.sign_slope(double(t));
+        if (!vertex) {
+            RAYPROOF_COUNT_EXACT(went_exact);
+            vertex.emplace(q.vertex());
+        }
+        return vertex->slope_sign(double(t));
     };
     const int q_min = q_sign(r.t_min), q_max = q_sign(r.t_max);
     bool hit = q_min <= 0 || q_max <= 0;

@@ -115,6 +115,31 @@ public:
             return ea<E>(v) * E(u) + eb<E>(v);
         });
     }
+    // The vertex t* = -b/a (a = |d|² > 0), where the slope a t + b changes sign, rounded
+    // faithfully to f once, with the exact sign of f - t*: sign(a g + b) = sign(g - t*)
+    // then follows for every double g, because t* is f itself or lies strictly between f
+    // and its neighbour on the side that sign gives, and no double lies in between
+    // (faithful_quotient, exact.hpp). One exact quotient per query instead of one exact
+    // sign per slope the search asks.
+    struct Vertex {
+        double f;
+        int side;  // sign(f - t*)
+        int slope_sign(double g) const {  // sign(a g + b)
+            if (side == 0) return (g > f) - (g < f);
+            if (side > 0) return g >= f ? 1 : -1;  // t* in (prev(f), f)
+            return g <= f ? -1 : 1;                // t* in (f, next(f))
+        }
+    };
+    Vertex vertex() const {
+        const Values v = given();
+        return *with_exact(safe(), [&](auto tag) -> std::optional<Vertex> {
+            using E = typename decltype(tag)::type;
+            const E num = -eb<E>(v), den = ea<E>(v);
+            if (any_overflowed(num, den)) return std::nullopt;
+            const double f = faithful_quotient<double>(num, den);
+            return Vertex{f, -compare_quotient(num, den, f)};
+        });
+    }
     int sign_discriminant(bool rescale = true) const {  // sign(b² - a c')
         return sign_of(rescale, 0.0, [](const Values& v, double, auto tag) {
             using E = typename decltype(tag)::type;
