@@ -261,11 +261,12 @@ TEST(CertifiedExactStageDouble, AabbScaledComparisonsDecideAsUnscaled) {
 // every generator, sign q(t) and sign(a t + b) at t_min, 0, t_max, the estimated roots
 // and their neighbours, the vertex and its neighbours, and the discriminant's sign; the
 // residual (rescaled alike) decides only those signs; the slope's sign from the
-// vertex is the exact one at every such t; and the rescaling applies to many of the
-// cases (extreme exponents, scaled integer configurations).
+// vertex is the exact one at every such t, and on a tangent line (discriminant 0) so
+// is q's sign from the vertex alone; and the rescaling applies to many of the cases
+// (extreme exponents, scaled integer configurations).
 TEST(CertifiedExactStageDouble, SphereRescaledSignsAreTheGivenOnes) {
     using T = double;
-    int rescalable = 0, residual_decided = 0;
+    int rescalable = 0, residual_decided = 0, tangents = 0;
     on_valid_cases<T, Sphere<T>>("the signs", [&](const auto& c, const std::string& where, bool& answered) {
         answered = true;
         const detail::SphereQuadratic<T> q(c.ray, c.shape);
@@ -291,6 +292,8 @@ TEST(CertifiedExactStageDouble, SphereRescaledSignsAreTheGivenOnes) {
                 for (const double t : {m, std::nextafter(m, -HUGE_VAL), std::nextafter(m, HUGE_VAL)}) ts.push_back(t);
         const auto residual = q.residual();
         const auto vertex = q.vertex();
+        const bool tangent = q.sign_discriminant(false) == 0;
+        tangents += tangent;
         for (const double m : {vertex.f, std::nextafter(vertex.f, -HUGE_VAL), std::nextafter(vertex.f, HUGE_VAL)})
             if (std::isfinite(m)) ts.push_back(m);
         for (const double t : ts) {
@@ -299,6 +302,9 @@ TEST(CertifiedExactStageDouble, SphereRescaledSignsAreTheGivenOnes) {
             const int slope = q.sign_slope(t, false);
             ASSERT_EQ(q.sign_slope(t), slope) << what << ", t = " << t;
             ASSERT_EQ(vertex.slope_sign(t), slope) << what << ", t = " << t << ": the vertex's slope sign";
+            if (tangent) {  // q(t) = a (t - t*)²
+                ASSERT_EQ(vertex.side == 0 && t == vertex.f ? 0 : 1, s) << what << ", t = " << t << ": a tangent";
+            }
             const int r = residual.sign_at(t);
             if (r != 2) {
                 ASSERT_EQ(r, s) << what << ", t = " << t << ": the residual's sign";
@@ -308,6 +314,7 @@ TEST(CertifiedExactStageDouble, SphereRescaledSignsAreTheGivenOnes) {
     });
     EXPECT_GT(rescalable, 100) << "the rescaled signs should be exercised";
     EXPECT_GT(residual_decided, 100) << "the residual should decide some of them";
+    EXPECT_GT(tangents, 100) << "exact tangents should be among the cases";
 }
 
 TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {

@@ -2,6 +2,9 @@
 // query: every decision on exact signs, each tried first on the quadratic's intervals
 // (and, for double, on its double-word residual), and t_enter and t_exit found by a
 // search over the ordered floats (detail/rounding.hpp). It answers every valid input.
+// Every slope sign the intervals leave open comes from one exact vertex, and on a
+// tangent line every such sign of q too; the search starts from exact root estimates
+// where the intervals' roots are wide (SphereQuadratic).
 #pragma once
 
 #include <rayproof/detail/certified.hpp>
@@ -28,6 +31,13 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
     constexpr T big = std::numeric_limits<T>::max();
     // The double-word residual, built on its first use (most queries need none).
     std::optional<decltype(q.residual())> residual;
+    // The vertex, exact, on the first slope its interval leaves undecided (and for a
+    // tangent, below).
+    std::optional<decltype(q.vertex())> vertex;
+    // Whether the discriminant is exactly 0 (a tangent line), decided on the first q
+    // sign that needs exact arithmetic: then q(t) = a (t - t*)², whose sign is 0 at t =
+    // t* and 1 elsewhere, from the vertex alone.
+    int tangent = -1;  // -1: not yet decided
     // sign of q at t (t = ±inf: +1, q grows without bound), and of a t + b (t = ±inf: ±1).
     auto q_sign = [&](T t) {
         if (std::isinf(t)) return 1;
@@ -39,10 +49,13 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
             if (c != 2) return c;
         }
         RAYPROOF_COUNT_EXACT(went_exact);
+        if (tangent < 0) tangent = q.sign_discriminant() == 0;
+        if (tangent) {
+            if (!vertex) vertex.emplace(q.vertex());
+            return vertex->side == 0 && double(t) == vertex->f ? 0 : 1;
+        }
         return q.sign_at(double(t));
     };
-    // The vertex, exact, on the first slope its interval leaves undecided.
-    std::optional<decltype(q.vertex())> vertex;
     auto slope_sign = [&](T t) {
         if (std::isinf(t)) return t > 0 ? 1 : -1;
         const int s = q.slope(double(t)).certain_sign();
@@ -70,6 +83,19 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
     }
     h.verdict = Verdict::hit;
     const auto [r0, r1] = q.roots(q.discriminant());
+    // Starts for the search: the intervals' midpoints, or the exact estimates where an
+    // interval is wide (near a tangent) and they exist.
+    double start0 = r0.mid(), start1 = r1.mid();
+    const auto wide = [](const Interval<double>& x) {
+        return !(x.hi - x.lo <= 0x1p-40 * (std::abs(x.lo) + std::abs(x.hi)));
+    };
+    if (wide(r0) || wide(r1)) {
+        const auto [e0, e1] = q.root_estimates();
+        if (std::isfinite(e0) && std::isfinite(e1)) {
+            start0 = e0;
+            start1 = e1;
+        }
+    }
     // Search range: the finite part of [t_min, t_max].
     const std::int64_t kmin = float_key(std::max(r.t_min, -big)), kmax = float_key(std::min(r.t_max, big));
     if (q_min <= 0) {
@@ -80,7 +106,7 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
             const T g = key_float<T>(k);
             return slope_sign(g) >= 0 || q_sign(g) <= 0;
         };
-        const T guess = narrow<T>(r0.mid());
+        const T guess = narrow<T>(start0);
         const std::int64_t lo = float_key(r.t_min) == kmin && !std::isinf(r.t_min) ? kmin : kmin - 1;
         // enter(t_max) holds for a finite t_max (t0 <= t_max); for t_max = inf, t0 may
         // lie beyond the largest float, whose enclosing finite neighbour is answered.
@@ -96,7 +122,7 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
             const T g = key_float<T>(k);
             return !(slope_sign(g) <= 0 || q_sign(g) <= 0);
         };
-        const T guess = narrow<T>(r1.mid());
+        const T guess = narrow<T>(start1);
         const std::int64_t hi = float_key(r.t_max) == kmax && !std::isinf(r.t_max) ? kmax : kmax + 1;
         const bool reached = !std::isinf(r.t_min) || !past(kmin);
         h.t_exit = reached ? key_float<T>(first_true(kmin, hi, std::isfinite(guess) ? float_key(guess) : hi, past) - 1)

@@ -10,6 +10,9 @@
 #include <rayproof/detail/ray_sphere_residual.hpp>
 #include <rayproof/types.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <utility>
 
@@ -139,6 +142,41 @@ public:
             const double f = faithful_quotient<double>(num, den);
             return Vertex{f, -compare_quotient(num, den, f)};
         });
+    }
+    // Estimates of the two roots, ascending, from a, b, c' and D = b² - a c' computed
+    // exactly and each rounded once (relative error < 2^-50), by the careful quadratic
+    // (q = -(b + sign(b)·sqrt(D)), roots q/a and c'/q: no cancellation), on the rescaled
+    // input where the given one is not safe for expansions. A start for the search
+    // where the intervals' roots are wide (near a tangent D is tiny and its interval
+    // holds 0); the search proves every float it answers, so an estimate only saves
+    // steps. NaN where D < 0 or a value leaves the double range.
+    std::pair<double, double> root_estimates() const {
+        constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+        const std::optional<Values>& scaled = safe() ? std::optional<Values>() : rescaled();
+        const Values v = scaled ? *scaled : given();
+        const std::pair<double, double> r =
+            *with_exact(safe() || scaled.has_value(), [&](auto tag) -> std::optional<std::pair<double, double>> {
+                using E = typename decltype(tag)::type;
+                const E a = ea<E>(v), b = eb<E>(v);
+                E c(0.0);
+                for (int j = 0; j < 3; ++j) {
+                    const E dj = E(v.o[j]) - E(v.c[j]);
+                    c = c + dj * dj;
+                }
+                const E rad(v.r);
+                c = c - rad * rad;
+                const E D = b * b - a * c;
+                if (any_overflowed(a, b, c, D)) return std::nullopt;
+                if (D.sign() < 0) return std::pair{nan, nan};
+                const auto value = [](const Approx& x) { return std::ldexp(x.mant, int(std::clamp(x.exp, -3000L, 3000L))); };
+                const double fa = value(a.approx()), fb = value(b.approx()), fc = value(c.approx()), fd = value(D.approx());
+                const double q = -(fb + std::copysign(std::sqrt(fd), fb));
+                if (q == 0) return std::pair{0.0, 0.0};  // b = 0 and D = 0: the tangent at t = 0
+                const double t0 = q / fa, t1 = fc / q;
+                return std::pair{std::min(t0, t1), std::max(t0, t1)};
+            });
+        const int back = scaled ? -scaled->shift : 0;
+        return {std::ldexp(r.first, back), std::ldexp(r.second, back)};
     }
     int sign_discriminant(bool rescale = true) const {  // sign(b² - a c')
         return sign_of(rescale, 0.0, [](const Values& v, double, auto tag) {
