@@ -157,14 +157,7 @@ public:
         const std::pair<double, double> r =
             *with_exact(safe() || scaled.has_value(), [&](auto tag) -> std::optional<std::pair<double, double>> {
                 using E = typename decltype(tag)::type;
-                const E a = ea<E>(v), b = eb<E>(v);
-                E c(0.0);
-                for (int j = 0; j < 3; ++j) {
-                    const E dj = E(v.o[j]) - E(v.c[j]);
-                    c = c + dj * dj;
-                }
-                const E rad(v.r);
-                c = c - rad * rad;
+                const E a = ea<E>(v), b = eb<E>(v), c = ec<E>(v);
                 const E D = b * b - a * c;
                 if (any_overflowed(a, b, c, D)) return std::nullopt;
                 if (D.sign() < 0) return std::pair{nan, nan};
@@ -182,14 +175,7 @@ public:
         return sign_of(rescale, 0.0, [](const Values& v, double, auto tag) {
             using E = typename decltype(tag)::type;
             const E b = eb<E>(v);
-            E c(0.0);
-            for (int j = 0; j < 3; ++j) {
-                const E dj = E(v.o[j]) - E(v.c[j]);
-                c = c + dj * dj;
-            }
-            const E rad(v.r);
-            c = c - rad * rad;
-            return b * b - ea<E>(v) * c;
+            return b * b - ea<E>(v) * ec<E>(v);
         });
     }
 
@@ -258,6 +244,15 @@ private:
         E s(0.0);
         for (int j = 0; j < 3; ++j) s = s + E(v.d[j]) * (E(v.o[j]) - E(v.c[j]));
         return s;
+    }
+    template <class E> static E ec(const Values& v) {  // c' = |o - c|² - r²
+        E s(0.0);
+        for (int j = 0; j < 3; ++j) {
+            const E dj = E(v.o[j]) - E(v.c[j]);
+            s = s + dj * dj;
+        }
+        const E rad(v.r);
+        return s - rad * rad;
     }
     bool safe() const {
         return expansion_safe(r_->origin) && expansion_safe(r_->direction) && expansion_safe(s_->center) &&
