@@ -31,8 +31,8 @@
 //            gamma(3)/(1 - gamma(3))|t~| and the two roundings of its own ends (K|t~|(1
 //            - u) - u|t~|(1 + K) >= gamma(3)/(1 - gamma(3))|t~|), valid while 1/d is
 //            normal and t~ is finite and normal (or t~ == 0 from p == o), decided per
-//            slab value; otherwise an outward-rounded interval division is used. Parallel axes are decided
-//            exactly (comparisons of floats).
+//            slab value; otherwise an outward-rounded interval division is used.
+//            Parallel axes are decided exactly (comparisons of floats).
 //            certified — the same enclosures decide every comparison they separate;
 //            overlapping ones are decided by exact arithmetic (detail/exact.hpp). The
 //            common case runs as straight-line code (aabb_certified_common): the entry
@@ -207,9 +207,9 @@ template <class T> std::optional<T> faithful_slab_value(T p, T o, T d) {
 // directions (exact.hpp, ExponentSpan). Where both spans E - e are at most 199, every
 // nonzero scaled value lies in [2^-100, 2^100], the Expansion type's safe range
 // (expansion_safe), and each product by a power of two is exact (its result is a
-// normal double). The grazing
-// cases that are integer configurations scaled by a large or tiny power of two, which
-// the Expansion type refused, are then decided with it instead of BigDyadic.
+// normal double). The grazing cases that are integer configurations scaled by a large
+// or tiny power of two, which the Expansion type refused, are then decided with it
+// instead of BigDyadic.
 class AabbScaledQuotients {
 public:
     template <class T> static std::optional<AabbScaledQuotients> make(const T* o, const T* d, const Aabb<T>& b) {
