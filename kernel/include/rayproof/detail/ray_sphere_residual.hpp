@@ -50,8 +50,8 @@ template <class T> std::array<double, 3> double3(const Vec3<T>& v) { return {dou
 // exact; one division). Counting per quantity (a hat is the computed value):
 //   Ŝ = abs_small, the 13 |τ_i| by value_at's tree, 6 additions deep:    S <= (1 - u)^-6 Ŝ
 //   fl(g_7·Ŝ): g_7, the product:                   gamma(7)·S <= (1 - u)^-8 (fl(g_7·Ŝ) + η)
-//   B̂_j: 2 additions; fl(g_2·B̂_j): g_2, the product; + 2^-1070: 1 addition, and
-//     (1 - u)(2^-1070 - η) >= 2^-1075:                                  β*_j <= (1 - u)^-5 β̂_j
+//   B̂_j: 2 additions; fl(g_2·B̂_j): g_2, the product; + 2^-1022: 1 addition, and
+//     (1 - u)(2^-1022 - η) >= 2^-1075:                                  β*_j <= (1 - u)^-5 β̂_j
 //   F*_j <= (1 - u)^-10 β̂_j (X_j + β̂_j); X̂_j: 1 addition (2|W_j|, 2|ω_j| exact), + β̂_j: 1,
 //     the product: 1:                                                   F*_j <= (1 - u)^-13 (F̂_j + η)
 //   F̂ = F̂_0 + F̂_1 + F̂_2: 2 additions:                       Σ F*_j <= (1 - u)^-15 F̂ + 3η(1 - u)^-13
@@ -65,7 +65,11 @@ template <class T> std::array<double, 3> double3(const Vec3<T>& v) { return {dou
 // (gamma(19) = 19u/(1 - 19u) < 20u). Hence err = (1 + 20u)(gamma(7)·Σ|τ| + Σ F*_j + u|v|)
 // + 2^-1000 up to its own roundings, every one of them counted above.
 // Underflow: a two_prod whose error term is subnormal may round it by up to 2^-1075; β
-// carries 2^-1070 for p_j (above), and 2^-1000 covers a_j, ρ and the small products.
+// carries 2^-1022 for p_j (above), and 2^-1000 covers a_j, ρ and the small products.
+// The 2^-1022 is the least normal double, not the 2^-1075 that suffices: a subnormal
+// addend that the compiler fuses with g_2·B̂_j into one fma (class C1, -mfma) costs a
+// microcode assist of about a hundred cycles on x86, three per value_at, which doubled
+// the certified sphere's time on uniform double input in such builds.
 // Exact while nothing overflows: the two_sum cascade is guarded by
 // A_0 + A_1 + A_2 + R <= 2^1000; any other overflow leaves an infinite or NaN err, which
 // decides nothing.
@@ -96,7 +100,7 @@ public:
             const Pair x = two_sum(oc_[j].hi, p.hi);
             W[j] = x.hi;
             om[j] = (x.lo + oc_[j].lo) + p.lo;
-            const double beta = g2 * (std::abs(x.lo) + std::abs(oc_[j].lo) + std::abs(p.lo)) + 0x1p-1070;
+            const double beta = g2 * (std::abs(x.lo) + std::abs(oc_[j].lo) + std::abs(p.lo)) + 0x1p-1022;
             F += beta * (2 * std::abs(W[j]) + 2 * std::abs(om[j]) + beta);
             const Pair sq = two_prod(W[j], W[j]);
             A[j] = sq.hi;
