@@ -91,7 +91,7 @@ kernel_stage clang clang++ "-O2" "(unit|oracle|props|exact_stage|fp_env)/[A-Za-z
 if [ "${RAYPROOF_CONTRACT_STAGE:-1}" != 0 ]; then
   contract_unit="unit/(ray_(aabb|obb|plane|sphere|polyhedron)_test|bound_witness_test|batch_test|ray_aabb_packet_test"
   contract_unit+="|prepared_ray_test|compensated_test|compensated_test_split_products|exact_test|faithful_test"
-  contract_unit+="|limbs_test|float_rounding_guard)"
+  contract_unit+="|limbs_test|float_rounding_guard|rounding_test)"
   # Tests of the build and the checkout rather than of the kernel's arithmetic.
   contract_exclude='^(fp_model_refused|kernel_headers_stand_alone|fuzz_mutations_apply)$'
   for cc in ${RAYPROOF_CONTRACT_COMPILERS:-g++ clang++}; do

@@ -124,10 +124,12 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_fast_common
     for (int i = 0; i < 3; ++i) {
         const T inv = T(1) / d[i];
         const T t_lo = (lo[i] - o[i]) * inv, t_hi = (hi[i] - o[i]) * inv;
-        const T t_in = t_hi < t_lo ? t_hi : t_lo, t_out = t_hi < t_lo ? t_lo : t_hi;
+        // min and max on two comparisons of their own: on one shared comparison the compiler
+        // swaps the pair with a branch, which random directions mispredict half the time.
+        const T t_in = t_hi < t_lo ? t_hi : t_lo, t_out = t_lo < t_hi ? t_hi : t_lo;
         sum += (t_lo + t_hi) + d[i];
         const bool later = t_in > t_enter;
-        face += int(later) * (2 * i + int(std::signbit(d[i])) - face);
+        face = pick_int(later, 2 * i + int(std::signbit(d[i])), face);
         t_enter = later ? t_in : t_enter;
         t_exit = t_out < t_exit ? t_out : t_exit;
     }
@@ -450,22 +452,23 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_conservativ
     const T* d = r.direction.data();
     const T* lo = b.lo.data();
     const T* hi = b.hi.data();
-    T m = r.t_min, x = r.t_max, sum = 0, amax = 0;
-    int face = -1;
+    T m = r.t_min, x = r.t_max, sum = 0;
+    int face = -1, small_d = 1;
     RAYPROOF_UNROLL3
     for (int i = 0; i < 3; ++i) {
         const T inv = T(1) / d[i];
         const T t_lo = (lo[i] - o[i]) * inv, t_hi = (hi[i] - o[i]) * inv;
-        const T t_in = t_hi < t_lo ? t_hi : t_lo, t_out = t_hi < t_lo ? t_lo : t_hi;
+        // min and max on two comparisons of their own: on one shared comparison the compiler
+        // swaps the pair with a branch, which random directions mispredict half the time.
+        const T t_in = t_hi < t_lo ? t_hi : t_lo, t_out = t_lo < t_hi ? t_hi : t_lo;
         sum += t_lo + t_hi;
-        const T ad = std::abs(d[i]);
-        amax = ad > amax ? ad : amax;
+        small_d &= int(std::abs(d[i]) <= dmax);
         const bool later = t_in > m;
-        face += int(later) * (2 * i + int(std::signbit(d[i])) - face);
+        face = pick_int(later, 2 * i + int(std::signbit(d[i])), face);
         m = later ? t_in : m;
         x = t_out < x ? t_out : x;
     }
-    const bool ok = int(sum - sum == 0) & int(amax <= dmax) & int(lo[0] <= hi[0]) & int(lo[1] <= hi[1]) &
+    const bool ok = int(sum - sum == 0) & small_d & int(lo[0] <= hi[0]) & int(lo[1] <= hi[1]) &
                     int(lo[2] <= hi[2]) & int(valid_range(r));
     if (!ok) [[unlikely]]
         return std::nullopt;
@@ -473,13 +476,13 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_conservativ
     // their "bound" is infinite: -inf - (inf) = -inf, never inf - inf).
     const T l = m - (K * std::abs(m) + eta), u = x + (K * std::abs(x) + eta);
     const T enter = l > r.t_min ? l : r.t_min, exit = u < r.t_max ? u : r.t_max;
+    // A miss is Hit<T>{}: chosen without a branch (hit or miss is a coin toss on uniform input).
+    const bool hit = enter <= exit;
     Hit<T> h;
-    if (enter <= exit) {
-        h.verdict = Verdict::hit;
-        h.t_enter = enter;
-        h.t_exit = exit;
-        h.face = face;
-    }
+    h.verdict = hit ? Verdict::hit : Verdict::miss;
+    h.t_enter = pick(hit, enter, T(0));
+    h.t_exit = pick(hit, exit, T(0));
+    h.face = pick_int(hit, face, -1);
     return h;
 }
 
@@ -747,8 +750,10 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_certified_common(const R& ray,
         // lane o - p for the plane left (lo when d_v < 0), split exactly by one two-lane
         // two_sum: its s is the value the slab values above were made from (rounding to
         // nearest is symmetric, so fl(hi - o) = -fl(o - hi)).
-        const double p_in = neg_w ? double(b.hi[w]) : double(b.lo[w]),
-                     p_out = neg_v ? double(b.lo[v]) : double(b.hi[v]);
+        // The planes are read by index, not chosen by a ternary, which the compiler turns
+        // into a jump that random directions mispredict half the time.
+        const T* const sides[2] = {b.lo.data(), b.hi.data()};
+        const double p_in = double(sides[neg_w][w]), p_out = double(sides[1 - neg_v][v]);
         const SumOf<D2> se = two_sum(make(p_in, double(r.origin[v])), -make(double(r.origin[w]), p_out));
         // tt·dh and tt·(dd - dh) are exact (eft.hpp, class C2); the correction's product
         // with 1/d is rounded() (class C3: fused into tt + ..., one rounding fewer, which

@@ -249,6 +249,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> obb_conservative_general(
 template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_conservative_common(const Ray<T>& r, const Obb<T>& b) {
     constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022, u = unit_roundoff<double>;
     double oc[3], d[3];
+    RAYPROOF_UNROLL3
     for (int j = 0; j < 3; ++j) {
         oc[j] = double(r.origin[j]) - double(b.center[j]);
         d[j] = double(r.direction[j]);
@@ -268,22 +269,22 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_conservative
         const double k = u + ed * ai;
         const double e0 = 2 * ((eo + std::abs(n0) * k) * ai + 3 * u * std::abs(t0)) + eta,
                      e1 = 2 * ((eo + std::abs(n1) * k) * ai + 3 * u * std::abs(t1)) + eta;
-        const bool neg = dp < 0;  // side 1 is entered
-        const double in_lo = neg ? t1 - e1 : t0 - e0, out_hi = neg ? t0 + e0 : t1 + e1;
+        const bool neg = dp < 0;  // side 1 is entered (pick: no jump on a coin toss)
+        const double in_lo = pick(neg, t1 - e1, t0 - e0), out_hi = pick(neg, t0 + e0, t1 + e1);
         probe += (in_lo - in_lo) + (out_hi - out_hi);
-        face += int(in_lo > lo) * (2 * i + int(neg) - face);
+        face = pick_int(in_lo > lo, 2 * i + int(neg), face);
         lo = in_lo > lo ? in_lo : lo;
         hi = out_hi < hi ? out_hi : hi;
     }
     if (!(ok & int(probe == 0))) [[unlikely]]
         return std::nullopt;
+    // A miss is Hit<T>{}, chosen without a branch (hit or miss is a coin toss).
+    const bool hit = lo <= hi;
     Hit<T> out;
-    if (lo <= hi) {
-        out.verdict = Verdict::hit;
-        out.t_enter = round_down_to<T>(lo);
-        out.t_exit = round_up_to<T>(hi);
-        out.face = face;
-    }
+    out.verdict = hit ? Verdict::hit : Verdict::miss;
+    out.t_enter = pick(hit, round_down_to<T>(lo), T(0));
+    out.t_exit = pick(hit, round_up_to<T>(hi), T(0));
+    out.face = pick_int(hit, face, -1);
     return out;
 }
 

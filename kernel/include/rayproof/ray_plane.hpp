@@ -98,7 +98,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_fast_commo
     Hit<T> h;
     const bool hit = int(r.t_min <= t) & int(t <= r.t_max);
     h.verdict = hit ? Verdict::hit : Verdict::miss;
-    h.t_enter = hit ? t : T(0);
+    h.t_enter = pick(hit, t, T(0));  // no jump on hit or miss, a coin toss
     h.t_exit = h.t_enter;
     return h;
 }
@@ -396,14 +396,14 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray
                     int(valid_range(r));
     if (!ok) [[unlikely]]
         return std::nullopt;
-    const double lo = t - bound, hi = t + bound;
-    const double enter = lo > double(r.t_min) ? lo : double(r.t_min), exit = hi < double(r.t_max) ? hi : double(r.t_max);
+    const double lo = t - bound, hi = t + bound, t_min = double(r.t_min), t_max = double(r.t_max);
+    const double enter = pick(lo > t_min, lo, t_min), exit = pick(hi < t_max, hi, t_max);
+    // A miss is Hit<T>{}, chosen without a jump (hit or miss is a coin toss).
+    const bool hit = enter <= exit;
     Hit<T> h;
-    if (enter <= exit) {
-        h.verdict = Verdict::hit;
-        h.t_enter = round_down_to<T>(enter);
-        h.t_exit = round_up_to<T>(exit);
-    }
+    h.verdict = hit ? Verdict::hit : Verdict::miss;
+    h.t_enter = pick(hit, round_down_to<T>(enter), T(0));
+    h.t_exit = pick(hit, round_up_to<T>(exit), T(0));
     return h;
 }
 

@@ -299,16 +299,17 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     if (!ok) [[unlikely]]
         return std::nullopt;
     const double lam_lo = lam - e_l, r_hi = mul(rr, up) + 0x1p-600;
-    const double l0 = lam_lo > 0 ? lam_lo : 0.0, gap = r_hi - l0;
-    const double w = mul(std::sqrt((gap > 0 ? gap : 0.0) * (r_hi + l0)), up) + 0x1p-500;
-    const double half = w + e_t, lo = ts - half, hi = ts + half;
-    const double enter = lo > double(r.t_min) ? lo : double(r.t_min), exit = hi < double(r.t_max) ? hi : double(r.t_max);
+    // pick rather than ternaries: a jump on these comparisons is a coin toss.
+    const double l0 = pick(lam_lo > 0, lam_lo, 0.0), gap = r_hi - l0;
+    const double w = mul(std::sqrt(pick(gap > 0, gap, 0.0) * (r_hi + l0)), up) + 0x1p-500;
+    const double half = w + e_t, lo = ts - half, hi = ts + half, t_min = double(r.t_min), t_max = double(r.t_max);
+    const double enter = pick(lo > t_min, lo, t_min), exit = pick(hi < t_max, hi, t_max);
+    // A miss is Hit<T>{}, chosen without a jump (hit or miss is a coin toss).
+    const bool hit = int(lam_lo <= r_hi) & int(enter <= exit);
     Hit<T> h;
-    if (int(lam_lo <= r_hi) & int(enter <= exit)) {
-        h.verdict = Verdict::hit;
-        h.t_enter = round_down_to<T>(enter);
-        h.t_exit = round_up_to<T>(exit);
-    }
+    h.verdict = hit ? Verdict::hit : Verdict::miss;
+    h.t_enter = pick(hit, round_down_to<T>(enter), T(0));
+    h.t_exit = pick(hit, round_up_to<T>(exit), T(0));
     return h;
 }
 

@@ -181,20 +181,32 @@ template <class T, ExactQuotients Source> T exact_faithful(const Source& f, int 
 
 // The closest T to x in the direction of -inf / +inf (an outward rounding of a double
 // enclosure end to T; the identity for T = double).
-template <class T> T round_down_to(double x) {
+// Without a branch: whether x rounded to nearest landed above x (below, for round_up_to)
+// is a coin toss. The step is one unit of the bits, toward -inf (+inf): down from a
+// positive y or up from a negative one is bits - 1, the other way bits + 1. It is the
+// step_down (step_up) of y at every y where it is taken: y = +0 never steps down (+0 > x
+// means x < 0, which rounds to -0 or below) and -0 never up; -0 steps down to the
+// least negative subnormal, -denorm_min up to -0, +inf down to the largest float, -inf
+// up to its negation, as step_down and step_up do; -inf never steps down, +inf never up
+// and NaN never (each comparison fails).
+template <class T> RAYPROOF_ALWAYS_INLINE T round_down_to(double x) {
     if constexpr (std::is_same_v<T, double>) {
         return x;
     } else {
+        using U = FloatBits<T>;
         const T y = narrow<T>(x);
-        return double(y) > x ? step_down(y) : y;
+        const U b = std::bit_cast<U>(y), s = b >> (8 * sizeof(U) - 1);  // 1: negative
+        return std::bit_cast<T>(U(b + (U(2 * s - 1) & (U(0) - U(double(y) > x)))));
     }
 }
-template <class T> T round_up_to(double x) {
+template <class T> RAYPROOF_ALWAYS_INLINE T round_up_to(double x) {
     if constexpr (std::is_same_v<T, double>) {
         return x;
     } else {
+        using U = FloatBits<T>;
         const T y = narrow<T>(x);
-        return double(y) < x ? step_up(y) : y;
+        const U b = std::bit_cast<U>(y), s = b >> (8 * sizeof(U) - 1);
+        return std::bit_cast<T>(U(b + (U(1 - 2 * s) & (U(0) - U(double(y) < x)))));
     }
 }
 

@@ -9,6 +9,7 @@
 // pbrt-v4 section 6.8.1 uses the same notation).
 #pragma once
 
+#include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/fp_model.hpp>
 
 #include <bit>
@@ -57,6 +58,22 @@ template <class T> constexpr T gamma(int n) {
 // The unsigned integer type of T's bits.
 template <class T> using FloatBits = std::conditional_t<sizeof(T) == 8, std::uint64_t, std::uint32_t>;
 
+// first ? a : b for floats, without a branch. Where the outcome is a coin toss (the sign
+// of a random direction, hit or miss), a ternary that the compiler turns into a jump
+// is mispredicted half the time.
+template <class T> RAYPROOF_ALWAYS_INLINE T pick(bool first, T a, T b) {
+    using U = FloatBits<T>;
+    const U m = U(0) - U(first);
+    return std::bit_cast<T>(U((std::bit_cast<U>(a) & m) | (std::bit_cast<U>(b) & ~m)));
+}
+
+// first ? a : b for ints, without a branch (as pick; the slab loops' face update, written
+// as a ternary or as face += later·(...), became such a jump).
+RAYPROOF_ALWAYS_INLINE int pick_int(bool first, int a, int b) {
+    const int m = -int(first);
+    return (a & m) | (b & ~m);
+}
+
 // The next representable value above / below x, by bit manipulation (no errno, inline).
 // step_up(+inf) is +inf and step_down(-inf) is -inf; step_up(±0) is the smallest
 // positive subnormal, step_down(±0) its negation.
@@ -77,21 +94,26 @@ template <class T> inline T step_down(T x) {
     return std::bit_cast<T>(b);
 }
 
-// Floats as ordered integers (-0 and +0 share key 0), for searching over the floats.
-template <class T> std::int64_t float_key(T x) {
+// Floats as ordered integers (-0 and +0 share key 0), for searching over the floats and
+// for the outward steps of round_down_to / round_up_to. Without a branch on the sign
+// (a coin toss where these run per query): with m = all ones for a negative value and 0
+// otherwise, (v ^ m) - m is -v or v.
+template <class T> RAYPROOF_ALWAYS_INLINE std::int64_t float_key(T x) {
     if constexpr (std::is_same_v<T, double>) {
-        const std::int64_t b = std::bit_cast<std::int64_t>(x);
-        return b < 0 ? -(b & INT64_MAX) : b;
+        const std::int64_t b = std::bit_cast<std::int64_t>(x), m = b >> 63;
+        return ((b & INT64_MAX) ^ m) - m;
     } else {
-        const std::int32_t b = std::bit_cast<std::int32_t>(x);
-        return b < 0 ? -std::int64_t(b & INT32_MAX) : std::int64_t(b);
+        const std::int64_t b = std::bit_cast<std::int32_t>(x), m = b >> 63;
+        return ((b & INT32_MAX) ^ m) - m;
     }
 }
-template <class T> T key_float(std::int64_t k) {
+template <class T> RAYPROOF_ALWAYS_INLINE T key_float(std::int64_t k) {
+    const std::int64_t m = k >> 63;
+    const std::uint64_t mag = std::uint64_t((k ^ m) - m);
     if constexpr (std::is_same_v<T, double>) {
-        return k < 0 ? -std::bit_cast<double>(-k) : std::bit_cast<double>(k);
+        return std::bit_cast<double>(mag | (std::uint64_t(m) & 0x8000000000000000u));
     } else {
-        return k < 0 ? -std::bit_cast<float>(std::int32_t(-k)) : std::bit_cast<float>(std::int32_t(k));
+        return std::bit_cast<float>(std::uint32_t(mag) | (std::uint32_t(m) & 0x80000000u));
     }
 }
 

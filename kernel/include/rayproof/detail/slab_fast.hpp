@@ -30,14 +30,6 @@ namespace rayproof::detail {
 // are assumed valid; the result follows the contract's face rule: -1 when t_min
 // already lies in every slab, otherwise the axis of the latest entry, lowest index on
 // ties (strict > keeps the earlier axis and keeps t_min on a tie with it).
-// Branch-free choice between two floats (random ray directions make a branch on the
-// sign of d_i mispredict half the time).
-template <class T> inline T pick(bool first, T a, T b) {
-    using U = FloatBits<T>;
-    const U m = U(0) - U(first);
-    return std::bit_cast<T>(U((std::bit_cast<U>(a) & m) | (std::bit_cast<U>(b) & ~m)));
-}
-
 // inv(i) gives 1/d_i: divided here (slab_fast), or as a prepared ray holds it
 // (slab_fast_with, ray_aabb.hpp).
 template <class T, class Inv>
@@ -45,6 +37,7 @@ RAYPROOF_ALWAYS_INLINE Hit<T> slab_fast_with(const T* o, const T* d, Inv inv_of,
                                              T t_max) {
     T t_enter = t_min, t_exit = t_max;
     int face = -1;
+    RAYPROOF_UNROLL3
     for (int i = 0; i < 3; ++i) {
         const T inv = inv_of(i);
         const T t_lo = (lo[i] - o[i]) * inv;
@@ -53,7 +46,7 @@ RAYPROOF_ALWAYS_INLINE Hit<T> slab_fast_with(const T* o, const T* d, Inv inv_of,
         const T t_in = pick(neg, t_hi, t_lo);
         const T t_out = pick(neg, t_lo, t_hi);
         const bool later = t_in > t_enter;          // false for NaN: NaN never wins
-        face += int(later) * (2 * i + int(neg) - face);
+        face = pick_int(later, 2 * i + int(neg), face);
         t_enter = t_in > t_enter ? t_in : t_enter;  // maxsd: keeps t_enter on NaN
         t_exit = t_out < t_exit ? t_out : t_exit;   // minsd: keeps t_exit on NaN
     }

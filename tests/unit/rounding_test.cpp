@@ -1,0 +1,167 @@
+// The branch-free helpers of detail/rounding.hpp and detail/certified.hpp that every
+// mode's answer passes through: pick and pick_int (a select without a jump), the ordered
+// keys float_key / key_float, and the outward roundings round_down_to / round_up_to of a
+// double enclosure end to T. Each is checked against a definition written another way
+// (std::nextafter, comparisons, the step_up / step_down it must agree with), over float
+// and double, on the special values (signed zeros, subnormals, the largest finite value,
+// infinities, NaN) and on seeded random values spanning every binade.
+#include "seeded.hpp"
+
+#include <rayproof/detail/certified.hpp>
+#include <rayproof/detail/rounding.hpp>
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+#include <random>
+#include <string>
+#include <vector>
+
+using namespace rayproof::detail;
+using rayproof::testing::env_seed_or;
+using rayproof::testing::rng_for_current_test;
+
+namespace {
+
+std::uint64_t base_seed() {
+    static const std::uint64_t s = env_seed_or(20261204);
+    return s;
+}
+
+template <class T> std::string hex(T x) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%a", double(x));
+    return b;
+}
+template <class T> bool same_bits(T a, T b) { return std::bit_cast<FloatBits<T>>(a) == std::bit_cast<FloatBits<T>>(b); }
+
+// Special values of T, and doubles around the float range's edges.
+template <class T> std::vector<T> specials() {
+    using L = std::numeric_limits<T>;
+    return {T(0),         -T(0),          L::denorm_min(), -L::denorm_min(), L::min(),           -L::min(),
+            L::max(),     -L::max(),      L::infinity(),   -L::infinity(),   L::quiet_NaN(),     -L::quiet_NaN(),
+            T(1),         -T(1),          T(1.5),          -T(0.75),         L::min() / T(3),    -L::min() / T(5)};
+}
+// A random T with a random sign, its exponent uniform over every binade (subnormals too).
+template <class T> T random_value(std::mt19937_64& rng) {
+    using L = std::numeric_limits<T>;
+    const int lo = L::min_exponent - L::digits, hi = L::max_exponent;
+    const T m = std::uniform_real_distribution<T>(T(1), T(2))(rng);
+    const T x = std::ldexp(m, int(rng() % unsigned(hi - lo)) + lo - 1);
+    return rng() & 1 ? -x : x;
+}
+// A random double around the float range, where the outward roundings to float act: the
+// float binades, subnormal floats and values beyond them, each with a random fraction.
+double random_double_for_float(std::mt19937_64& rng) {
+    const double m = std::uniform_real_distribution<double>(1, 2)(rng);
+    const double x = std::ldexp(m, int(rng() % 300) - 165);
+    return rng() & 1 ? -x : x;
+}
+
+}  // namespace
+
+template <class T> class Rounding : public ::testing::Test {};
+using Scalars = ::testing::Types<float, double>;
+TYPED_TEST_SUITE(Rounding, Scalars);
+
+// pick(c, a, b) is c ? a : b, bit for bit: signed zeros and NaN payloads survive.
+TYPED_TEST(Rounding, PickIsTheTernaryBitForBit) {
+    using T = TypeParam;
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::mt19937_64 rng = rng_for_current_test(base_seed());
+    std::vector<T> values = specials<T>();
+    for (int i = 0; i < 200; ++i) values.push_back(random_value<T>(rng));
+    for (const T a : values)
+        for (const T b : {T(0), -T(0), std::numeric_limits<T>::quiet_NaN(), T(2.5)}) {
+            EXPECT_TRUE(same_bits(pick(true, a, b), a)) << hex(a) << " " << hex(b);
+            EXPECT_TRUE(same_bits(pick(false, a, b), b)) << hex(a) << " " << hex(b);
+        }
+    for (const int a : {0, -1, 5, std::numeric_limits<int>::min(), std::numeric_limits<int>::max()})
+        for (const int b : {0, -1, 3}) {
+            EXPECT_EQ(pick_int(true, a, b), a);
+            EXPECT_EQ(pick_int(false, a, b), b);
+        }
+}
+
+// The keys order the values as < does (both zeros at key 0), one key per float: the key
+// of step_up(x) is one more than x's, and key_float gives the value back (+0 for key 0).
+TYPED_TEST(Rounding, KeysOrderTheValuesOneApart) {
+    using T = TypeParam;
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::mt19937_64 rng = rng_for_current_test(base_seed());
+    std::vector<T> values = specials<T>();
+    for (int i = 0; i < 20000; ++i) values.push_back(random_value<T>(rng));
+    for (std::size_t i = 0; i < values.size(); ++i) {
+        const T x = values[i];
+        if (std::isnan(x)) continue;
+        SCOPED_TRACE(hex(x));
+        const std::int64_t k = float_key(x);
+        if (x == 0) {
+            EXPECT_EQ(k, 0);
+            EXPECT_TRUE(same_bits(key_float<T>(k), T(0)));
+        } else {
+            EXPECT_TRUE(same_bits(key_float<T>(k), x));
+        }
+        if (!(std::isinf(x) && x > 0)) {
+            EXPECT_EQ(float_key(step_up(x)), k + 1);
+            EXPECT_EQ(float_key(std::nextafter(x, std::numeric_limits<T>::infinity())), k + 1);
+        }
+        const T y = values[(i * 7919 + 13) % values.size()];
+        if (!std::isnan(y)) {
+            EXPECT_EQ(x < y, k < float_key(y)) << hex(y);
+        }
+    }
+}
+
+// For T = float: round_down_to(x) is the largest float <= x and round_up_to(x) the
+// smallest float >= x (±inf beyond the range), with the signed zero that step_down /
+// step_up give (the step from ±0 down is -denorm_min, from -denorm_min up is -0; a
+// value rounded to nearest onto ±0 that needs no step keeps that zero); NaN stays NaN.
+// For T = double both are the identity.
+TYPED_TEST(Rounding, OutwardRoundingIsTheNeighbourTowardTheEnd) {
+    using T = TypeParam;
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::mt19937_64 rng = rng_for_current_test(base_seed());
+    std::vector<double> xs;
+    for (const double x : specials<double>()) xs.push_back(x);
+    for (const float f : specials<float>()) {
+        xs.push_back(double(f));
+        // Just beside each float and each half-way point (ties of the rounding to float).
+        const double up = std::nextafter(double(f), 1e300), down = std::nextafter(double(f), -1e300);
+        xs.insert(xs.end(), {up, down, (double(f) + up) / 2, double(std::nextafter(f, 1.0f)) / 2 + double(f) / 2});
+    }
+    xs.insert(xs.end(), {1e39, -1e39, 0x1p-150, -0x1p-150, 0x1.8p-150, -0x1.8p-150, 0x1p-160, -0x1p-160});
+    for (int i = 0; i < 200000; ++i) xs.push_back(random_double_for_float(rng));
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    for (const double x : xs) {
+        SCOPED_TRACE(hex(x));
+        const T dn = round_down_to<T>(x), up = round_up_to<T>(x);
+        if (std::isnan(x)) {
+            EXPECT_TRUE(std::isnan(dn));
+            EXPECT_TRUE(std::isnan(up));
+            continue;
+        }
+        if constexpr (std::is_same_v<T, double>) {
+            EXPECT_TRUE(same_bits(dn, x));
+            EXPECT_TRUE(same_bits(up, x));
+        } else {
+            // Bounds on the right side, and the neighbour beyond them on the other.
+            EXPECT_LE(double(dn), x);
+            EXPECT_GE(double(up), x);
+            if (dn != std::numeric_limits<float>::infinity()) {
+                EXPECT_GT(double(std::nextafter(dn, float(inf))), x);
+            }
+            if (up != -std::numeric_limits<float>::infinity()) {
+                EXPECT_LT(double(std::nextafter(up, -float(inf))), x);
+            }
+            // And the very bits of the definition by step_down / step_up.
+            const float y = float(x);
+            EXPECT_TRUE(same_bits(dn, double(y) > x ? step_down(y) : y)) << hex(dn);
+            EXPECT_TRUE(same_bits(up, double(y) < x ? step_up(y) : y)) << hex(up);
+        }
+    }
+}
