@@ -1,7 +1,7 @@
 // bench/bench_main.cpp — the speed half of the trade: every shape × scalar type ×
 // workload × method (scalar) and the batch sweep, as Google Benchmark runs.
 //   rayproof_bench [benchmark flags] [--cases=N] [--cgal_cases=N] [--batch_max=N] [--seed=S]
-//                  [--watchdog=SECONDS]
+//                  [--watchdog=SECONDS] [--fixed_order]
 #include "bench_common.hpp"
 #include "bench_cli.hpp"
 
@@ -27,6 +27,8 @@ int main(int argc, char** argv) {
         ->check(cli::non_negative);
     app.add_option("--batch_max", o.batch_max, "the largest batch of the batch sweep")->check(cli::positive);
     app.add_option("--seed", o.seed, "the workloads' seed (decimal or 0x hex)")->check(cli::non_negative);
+    app.add_flag("--fixed_order", o.fixed_order,
+                 "time every pass over the cases in one order (default: a new random order per pass)");
     app.add_option("--watchdog", o.watchdog, "the deadline of each method's untimed check pass, seconds (0: none)")
         ->check(cli::non_negative);
     if (const auto stop = parse_command_line(app, argc, argv)) return *stop;
@@ -34,6 +36,7 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("cases", std::to_string(options().cases));
     benchmark::AddCustomContext("cgal_cases", std::to_string(options().cgal_cases));
     benchmark::AddCustomContext("seed", std::to_string(options().seed));
+    benchmark::AddCustomContext("order", options().fixed_order ? "fixed" : "shuffled per pass");
     register_aabb();
     register_obb();
     register_plane();

@@ -79,11 +79,13 @@ void time_env_pair(benchmark::State& st, const std::string& key, A a, B b, bool 
             if (foreign) leave_foreign();
         }))
         return;
+    ShuffledCases<Case<T, Shape>> order(all, n, key);  // each pass in a new order, as time_pair's
     std::vector<Hit<T>> out(n);
     auto pass = [&](auto query, bool in_foreign) {
+        order.shuffle();
         if (in_foreign) enter_foreign();
         const double start = pass_clock();
-        fill_pass(all.data(), out.data(), n, query);  // its own loop, as time_pair's passes
+        fill_pass(order.data(), out.data(), n, query);  // its own loop, as time_pair's passes
         const double t = pass_clock() - start;
         if (in_foreign) leave_foreign();
         return t * 1e9 / double(n);

@@ -16,7 +16,9 @@
 //
 // Times are the median over repetitions of the CPU time of one pass over the cases,
 // divided by the number of cases (CPU time, not wall time: the machine may be shared);
-// the spread is the coefficient of variation over repetitions. certified / fast and
+// every pass takes the cases in a new random order (bench_common.hpp: a fixed order lets
+// the branch predictor learn each case's outcome); the spread is the coefficient of
+// variation over repetitions. certified / fast and
 // Epeck / certified verdict are also measured in pairs (bench_common.hpp, time_pair:
 // the median over back-to-back pairs of passes of the ratio), which the checks use.
 //
