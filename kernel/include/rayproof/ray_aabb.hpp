@@ -458,9 +458,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_conservativ
     for (int i = 0; i < 3; ++i) {
         const T inv = T(1) / d[i];
         const T t_lo = (lo[i] - o[i]) * inv, t_hi = (hi[i] - o[i]) * inv;
-        // min and max on two comparisons of their own: on one shared comparison the compiler
-        // swaps the pair with a branch, which random directions mispredict half the time.
-        const T t_in = t_hi < t_lo ? t_hi : t_lo, t_out = t_lo < t_hi ? t_hi : t_lo;
+        const T t_in = t_hi < t_lo ? t_hi : t_lo, t_out = t_lo < t_hi ? t_hi : t_lo;  // as aabb_fast_common
         sum += t_lo + t_hi;
         small_d &= int(std::abs(d[i]) <= dmax);
         const bool later = t_in > m;
@@ -476,14 +474,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> aabb_conservativ
     // their "bound" is infinite: -inf - (inf) = -inf, never inf - inf).
     const T l = m - (K * std::abs(m) + eta), u = x + (K * std::abs(x) + eta);
     const T enter = l > r.t_min ? l : r.t_min, exit = u < r.t_max ? u : r.t_max;
-    // A miss is Hit<T>{}: chosen without a branch (hit or miss is a coin toss on uniform input).
-    const bool hit = enter <= exit;
-    Hit<T> h;
-    h.verdict = hit ? Verdict::hit : Verdict::miss;
-    h.t_enter = pick(hit, enter, T(0));
-    h.t_exit = pick(hit, exit, T(0));
-    h.face = pick_int(hit, face, -1);
-    return h;
+    return hit_when(enter <= exit, enter, exit, face);
 }
 
 template <class R, class T>

@@ -278,14 +278,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_conservative
     }
     if (!(ok & int(probe == 0))) [[unlikely]]
         return std::nullopt;
-    // A miss is Hit<T>{}, chosen without a branch (hit or miss is a coin toss).
-    const bool hit = lo <= hi;
-    Hit<T> out;
-    out.verdict = hit ? Verdict::hit : Verdict::miss;
-    out.t_enter = pick(hit, round_down_to<T>(lo), T(0));
-    out.t_exit = pick(hit, round_up_to<T>(hi), T(0));
-    out.face = pick_int(hit, face, -1);
-    return out;
+    return hit_when(lo <= hi, round_down_to<T>(lo), round_up_to<T>(hi), face);
 }
 
 template <class R, class T>

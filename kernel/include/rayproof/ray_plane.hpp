@@ -95,12 +95,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_fast_commo
     if (!(int(sum - sum == 0) & int(den != 0) & int(valid_range(r)))) [[unlikely]]
         return std::nullopt;
     const T t = num / den;
-    Hit<T> h;
-    const bool hit = int(r.t_min <= t) & int(t <= r.t_max);
-    h.verdict = hit ? Verdict::hit : Verdict::miss;
-    h.t_enter = pick(hit, t, T(0));  // no jump on hit or miss, a coin toss
-    h.t_exit = h.t_enter;
-    return h;
+    return hit_when(bool(int(r.t_min <= t) & int(t <= r.t_max)), t, t);
 }
 
 template <class R, class T>
@@ -398,13 +393,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray
         return std::nullopt;
     const double lo = t - bound, hi = t + bound, t_min = double(r.t_min), t_max = double(r.t_max);
     const double enter = pick(lo > t_min, lo, t_min), exit = pick(hi < t_max, hi, t_max);
-    // A miss is Hit<T>{}, chosen without a jump (hit or miss is a coin toss).
-    const bool hit = enter <= exit;
-    Hit<T> h;
-    h.verdict = hit ? Verdict::hit : Verdict::miss;
-    h.t_enter = pick(hit, round_down_to<T>(enter), T(0));
-    h.t_exit = pick(hit, round_up_to<T>(exit), T(0));
-    return h;
+    return hit_when(enter <= exit, round_down_to<T>(enter), round_up_to<T>(exit));
 }
 
 template <class R, class T>

@@ -304,13 +304,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     const double w = mul(std::sqrt(pick(gap > 0, gap, 0.0) * (r_hi + l0)), up) + 0x1p-500;
     const double half = w + e_t, lo = ts - half, hi = ts + half, t_min = double(r.t_min), t_max = double(r.t_max);
     const double enter = pick(lo > t_min, lo, t_min), exit = pick(hi < t_max, hi, t_max);
-    // A miss is Hit<T>{}, chosen without a jump (hit or miss is a coin toss).
-    const bool hit = int(lam_lo <= r_hi) & int(enter <= exit);
-    Hit<T> h;
-    h.verdict = hit ? Verdict::hit : Verdict::miss;
-    h.t_enter = pick(hit, round_down_to<T>(enter), T(0));
-    h.t_exit = pick(hit, round_up_to<T>(exit), T(0));
-    return h;
+    return hit_when(bool(int(lam_lo <= r_hi) & int(enter <= exit)), round_down_to<T>(enter), round_up_to<T>(exit));
 }
 
 template <class R, class T>

@@ -2,8 +2,9 @@
 // shares, apart from any one method: the exact-stage counters, the meeting of a
 // straight-line path with its general path (common_or_general) and of a verdict filter
 // with its fallback (verdict_or), the exact decisions on quotients num/den
-// (exact_compare, exact_faithful), and the roundings of a double to T (faithful_to,
-// round_down_to, round_up_to, faithful_from_enclosure).
+// (exact_compare, exact_faithful), the roundings of a double to T (faithful_to,
+// round_down_to, round_up_to, faithful_from_enclosure), and the answer of an enclosure
+// that is a hit or a miss (hit_when).
 #pragma once
 
 #include <rayproof/detail/exact.hpp>
@@ -208,6 +209,23 @@ template <class T> RAYPROOF_ALWAYS_INLINE T round_up_to(double x) {
         const U b = std::bit_cast<U>(y), s = b >> (8 * sizeof(U) - 1);
         return std::bit_cast<T>(U(b + (U(1 - 2 * s) & (U(0) - U(double(y) < x)))));
     }
+}
+
+// [t_enter, t_exit] with its face on a hit, and on a miss Hit<T>{} (t 0, face -1), chosen
+// without a jump: on random rays hit or miss is a coin toss, and a branch on it is
+// mispredicted half the time.
+// The shapes without faces (plane, sphere) leave the face at its -1.
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> hit_when(bool hit, T t_enter, T t_exit) {
+    Hit<T> h;
+    h.verdict = hit ? Verdict::hit : Verdict::miss;
+    h.t_enter = pick(hit, t_enter, T(0));
+    h.t_exit = pick(hit, t_exit, T(0));
+    return h;
+}
+template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> hit_when(bool hit, T t_enter, T t_exit, int face) {
+    Hit<T> h = hit_when(hit, t_enter, t_exit);
+    h.face = pick_int(hit, face, -1);
+    return h;
 }
 
 // Faithful rounding from an enclosure, when it is narrow enough: if [lo, hi] lies
