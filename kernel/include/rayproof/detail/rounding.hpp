@@ -94,26 +94,21 @@ template <class T> inline T step_down(T x) {
     return std::bit_cast<T>(b);
 }
 
-// Floats as ordered integers (-0 and +0 share key 0), for searching over the floats and
-// for the outward steps of round_down_to / round_up_to. Without a branch on the sign
-// (a coin toss where these run per query): with m = all ones for a negative value and 0
-// otherwise, (v ^ m) - m is -v or v.
-template <class T> RAYPROOF_ALWAYS_INLINE std::int64_t float_key(T x) {
+// Floats as ordered integers (-0 and +0 share key 0), for searching over the floats.
+template <class T> std::int64_t float_key(T x) {
     if constexpr (std::is_same_v<T, double>) {
-        const std::int64_t b = std::bit_cast<std::int64_t>(x), m = b >> 63;
-        return ((b & INT64_MAX) ^ m) - m;
+        const std::int64_t b = std::bit_cast<std::int64_t>(x);
+        return b < 0 ? -(b & INT64_MAX) : b;
     } else {
-        const std::int64_t b = std::bit_cast<std::int32_t>(x), m = b >> 63;
-        return ((b & INT32_MAX) ^ m) - m;
+        const std::int32_t b = std::bit_cast<std::int32_t>(x);
+        return b < 0 ? -std::int64_t(b & INT32_MAX) : std::int64_t(b);
     }
 }
-template <class T> RAYPROOF_ALWAYS_INLINE T key_float(std::int64_t k) {
-    const std::int64_t m = k >> 63;
-    const std::uint64_t mag = std::uint64_t((k ^ m) - m);
+template <class T> T key_float(std::int64_t k) {
     if constexpr (std::is_same_v<T, double>) {
-        return std::bit_cast<double>(mag | (std::uint64_t(m) & 0x8000000000000000u));
+        return k < 0 ? -std::bit_cast<double>(-k) : std::bit_cast<double>(k);
     } else {
-        return std::bit_cast<float>(std::uint32_t(mag) | (std::uint32_t(m) & 0x80000000u));
+        return k < 0 ? -std::bit_cast<float>(std::int32_t(-k)) : std::bit_cast<float>(std::int32_t(k));
     }
 }
 
