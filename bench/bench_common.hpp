@@ -109,8 +109,8 @@ template <class F> bool passes_watchdog(benchmark::State& st, const std::string&
     return false;
 }
 
-// A copy of the first n timed cases, put in a new random order by shuffle() before each
-// pass (a no-op under --fixed_order). Seeded by the workloads' seed and the benchmark's
+// A copy of the first n timed cases (or of their indices), put in a new random order by
+// shuffle() before each pass (a no-op under --fixed_order). Seeded by the workloads' seed and the benchmark's
 // name: a run is reproducible, and each benchmark draws its own orders.
 template <class Case> class ShuffledCases {
 public:

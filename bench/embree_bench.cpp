@@ -31,15 +31,16 @@ void time_embree(benchmark::State& st, const std::string& w, bool robust) {
     const EmbreeSpheres& es = scenes(w, robust);
     std::vector<Hit<float>> out(cases.size());
     // Each pass in a new order, as time_scalar's (bench_common.hpp); case i's scene is
-    // scene i, so the order is a permutation of the indices.
-    std::vector<std::uint32_t> order(cases.size());
-    for (std::size_t i = 0; i < order.size(); ++i) order[i] = std::uint32_t(i);
-    std::mt19937_64 rng(options().seed ^ std::uint64_t(robust));
+    // scene i, so what is shuffled is the indices.
+    std::vector<std::uint32_t> indices(cases.size());
+    for (std::size_t i = 0; i < indices.size(); ++i) indices[i] = std::uint32_t(i);
+    ShuffledCases<std::uint32_t> order(indices, indices.size(), key);
+    const std::uint32_t* k = order.data();
     for (auto _ : st) {
         st.PauseTiming();
-        if (!options().fixed_order) std::shuffle(order.begin(), order.end(), rng);
+        order.shuffle();
         st.ResumeTiming();
-        for (std::size_t i = 0; i < cases.size(); ++i) out[i] = es.intersect(order[i], cases[order[i]].ray);
+        for (std::size_t i = 0; i < order.size(); ++i) out[i] = es.intersect(k[i], cases[k[i]].ray);
         benchmark::DoNotOptimize(out.data());
         benchmark::ClobberMemory();
     }
