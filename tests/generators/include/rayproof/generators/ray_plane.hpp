@@ -122,11 +122,14 @@ template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
 // normal and direction whose dot product overflows T, and a crossing near the top of
 // the range with a limit a few percent from it, n·d computed with cancellation (terms
 // 2^(p+25), the sum a few ulps of them, up to half an ulp off) so that for double the
-// limit times the computed n·d overflows.
+// limit times the computed n·d overflows; and a crossing at a moderate t by a ray whose
+// n·d cancels to 2^-k of its terms (k from 4 to most of T's precision), then scaled by
+// powers of two anywhere in T's range, so that the bounds on n·d and on the numerator
+// are far apart in magnitude (products of them underflow).
 template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
     using L = std::numeric_limits<T>;
     Case<T, Plane<T>> c = renamed(plane_general<T>(rng), "extreme");
-    const auto kind = below(rng, 5);
+    const auto kind = below(rng, 6);
     if (kind == 0) {  // nearly parallel
         const Vec3<T> w = nonzero_vec<T>(rng, [](Rng& g) { return uniform<T>(g, -1, 1); });
         c.ray.direction = c.shape.normal.cross(w);
@@ -152,6 +155,34 @@ template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
             c.ray.origin[i] = wide_value<T>(rng);
         }
         c.shape.offset = wide_value<T>(rng);
+    } else if (kind == 4) {  // a far crossing by a nearly parallel ray, scaled
+        // The origin near the plane, the direction tilted out of it by 2^-k of its length
+        // (so n·d cancels to about 2^-k of its terms) and the crossing about 2^j away, j
+        // near k: the numerator offset - n·o = t·(n·d) is then not cancelled, and its
+        // terms are far smaller than |t| times those of n·d.
+        const Vec3<T>& n = c.shape.normal;
+        const Vec3<T> w = nonzero_vec<T>(rng, [](Rng& g) { return uniform<T>(g, -1, 1); });
+        const Vec3<T> along = n.cross(w);
+        if (along.isZero()) return c;
+        const int k = int(uniform_int(rng, 4, kPrecision<T> - 8));
+        const T tilt = std::ldexp(along.norm() / n.norm(), -k) * narrow<T>(random_sign(rng));
+        c.ray.direction = along + tilt * n;
+        const int j = int(uniform_int(rng, k - 4, k + 8));
+        const T t0 = std::ldexp(uniform<T>(rng, 1, 2), j) * narrow<T>(random_sign(rng));
+        c.shape.offset = n.dot(c.ray.origin + t0 * c.ray.direction);
+        const auto range = below(rng, 3);
+        if (range == 0) {
+            c.ray.t_min = 0;
+            c.ray.t_max = kInf<T>;
+        } else if (range == 1) {
+            c.ray.t_min = -kInf<T>;
+            c.ray.t_max = kInf<T>;
+        } else {  // around t0, a few ulps to half of it wide
+            const T half = std::ldexp(std::abs(t0), -int(uniform_int(rng, 1, kPrecision<T> - 4)));
+            c.ray.t_min = t0 - half;
+            c.ray.t_max = t0 + half;
+        }
+        random_exact_scaling(c, rng);
     } else {  // a far crossing next to a limit, n·d with cancellation
         const T s = narrow<T>(random_sign(rng)), big = std::ldexp(T(1), kPrecision<T> + 25);  // its ulp: 2^26
         const T x = std::ldexp(uniform<T>(rng, 8.5, 12.5), 26);
