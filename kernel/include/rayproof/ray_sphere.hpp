@@ -242,7 +242,13 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_conservative_gener
 //     2^-1075, far inside 2^-601), and 12u·(1 - 5u) > 10.31u.
 //   c~_k = fl(fl(Δ~_i d_j) - fl(Δ~_j d_i)): |c~_k - c_k| <= gamma(3)·P_k, P_k = |Δ_i d_j| +
 //     |Δ_j d_i|; with P~ the rounded sum of the six |products|, P <= (1 + 8u)·P~. n~ =
-//     fl(sqrt(fl(Σ c~_k²))) is |c~| within 2.6u|c~| <= 2.7u·P~, so ||c| - n~| <= |c -
+//     fl(sqrt(ρ~)), ρ~ = fl(Σ c~_k²), is |c~| within 2.6u|c~| <= 2.7u·P~ while ρ~ >=
+//     2^-968 (checked): a square in the subnormal range is off by at most 2^-1075 <=
+//     2^-107·ρ~, which the 2.6u holds. (Below, that absolute error is not relative to
+//     |c~|: its square root, up to 2^-537, times inv, up to 2^400, is far beyond any
+//     bound here, and a tangent ray, λ = R, was declared a miss. So such a ρ~ goes to the
+//     general path, but ρ~ = 0: every c~_k² then rounds to 0, n~ = 0 <= |c~| and λ_lo = 0
+//     is a lower bound of λ whatever the error.) So ||c| - n~| <= |c -
 //     c~|_1 + 2.7u·P~ <= 5.8u·P~. λ~ = fl(n~·inv): |λ~ - λ| <= (5.8u·P~ + 5.1u·n~)·inv·
 //     (1 + 5u) + 2^-670 <= 11.2u·P~·inv + 2^-670 (n~ <= (1 + 3u)·P~). λ_lo = fl(λ~ - eλ)
 //     is at most λ when eλ >= (λ~ - λ) + u·λ~ (the rounding of the difference when it is
@@ -263,9 +269,11 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_conservative_gener
 // ones, within u of the exact ones' magnitudes, which the factors above allow); the
 // products are nonetheless rounded() (class C3), because the batch form and the single
 // query must give the same bits wherever the compiler inlines them.
-// Range: every finite float input passes (|Δ|, |d|, r <= 2^129, a >= 2^-298). For
-// double, a~ outside [2^-400, 2^1000] (|d| tiny or huge) or any of E1, eλ, λ~, R~ not
-// finite (an overflow) goes to sphere_conservative_general, out of line.
+// Range: every finite float input passes (|Δ|, |d|, r <= 2^129, a >= 2^-298, and ρ~
+// is 0 or at least 2^-596: Δ~ and d are multiples of 2^-149, so each c~_k is a multiple
+// of 2^-298). For double, a~ outside [2^-400, 2^1000] (|d| tiny or huge), ρ~ in (0,
+// 2^-968) (a tiny cross product) or any of E1, eλ, λ~, R~ not finite (an overflow) goes
+// to sphere_conservative_general, out of line.
 // Slack (what a caller spawning rays off the sphere must stay beyond; the render
 // tracer's conservative spawn offset, tracer.cpp, derives its margin from these): the
 // upper end is at most t* + Et + sqrt(max(Rh² - λ_lo'², 0)) and λ - λ_lo' <= El, with
@@ -291,11 +299,12 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     const double x0 = mul(e1, d2), x1 = mul(e2, d1), y0 = mul(e2, d0), y1 = mul(e0, d2), z0 = mul(e0, d1), z1 = mul(e1, d0);
     const double cx = x0 - x1, cy = y0 - y1, cz = z0 - z1;
     const double pm = ((std::abs(x0) + std::abs(x1)) + (std::abs(y0) + std::abs(y1))) + (std::abs(z0) + std::abs(z1));
-    const double n = std::sqrt((mul(cx, cx) + mul(cy, cy)) + mul(cz, cz));
+    const double rad = (mul(cx, cx) + mul(cy, cy)) + mul(cz, cz), n = std::sqrt(rad);
     const double inv = 1 / a;
     const double ts = mul(-b, inv), lam = mul(n, inv), rr = mul(double(s.radius), std::sqrt(inv));
     const double e_t = mul(c_t, sb * inv) + 0x1p-600, e_l = mul(c_l, pm * inv) + 0x1p-600;
-    const bool ok = int(a >= 0x1p-400) & int(a <= 0x1p1000) & int(e_t + e_l + lam + rr < inf<double>);
+    const bool ok = int(a >= 0x1p-400) & int(a <= 0x1p1000) & (int(rad >= 0x1p-968) | int(rad == 0)) &
+                    int(e_t + e_l + lam + rr < inf<double>);
     if (!ok) [[unlikely]]
         return std::nullopt;
     const double lam_lo = lam - e_l, r_hi = mul(rr, up) + 0x1p-600;
