@@ -16,6 +16,8 @@
 //     intersect().mask;
 //   - fast: verdict == intersect().mask, empty slots and invalid rays give bit 0; its
 //     wrong verdicts are counted and printed, not asserted (fast promises nothing more).
+// Conservative and certified are judged again on each case moved elsewhere in the
+// exponent range by an exact power-of-two scaling.
 // An empty slot (the oracle: invalid box) and every lane of an invalid ray must be bit 0
 // with the fields of a miss, in every mode. A failure prints the suite seed, the case,
 // the lane, its box in hexfloat and the command that reruns the case (the binary is
@@ -174,6 +176,30 @@ TYPED_TEST(PacketProps, ConservativeLanesNeverMissAndEnclose) {
     using T = typename TypeParam::type;
     props::run_cases<T, Aabb<T>>([](const auto& d, auto) -> Failure {
         return judge_lanes<T, TypeParam::width>(d, conservative, [](int, const Hit<T>&, const Aabb<T>&) -> Failure { return std::nullopt; });
+    });
+}
+
+// conservative and certified again, every lane judged by the oracle, on the case moved
+// elsewhere in the exponent range by an exact power-of-two scaling (choose_scaling, the
+// scalar suites' ScaledCaseMeetsContract draw): the lanes' bounds at every magnitude.
+// Lanes that hold neighbouring cases' boxes keep their own magnitudes.
+TYPED_TEST(PacketProps, ScaledLanesKeepPromises) {
+    using T = typename TypeParam::type;
+    props::run_cases<T, Aabb<T>>([](const auto& d, auto pick) -> Failure {
+        const std::optional<props::Scaling> chosen = props::choose_scaling(d.c, d.choice(props::kScaledOracleSalt));
+        if (!chosen) return std::nullopt;
+        const int k = pick(chosen->k, chosen->k < 0 ? -1 : 1), j = pick(chosen->j, 0);
+        auto scaled = d;
+        if (!props::scale_exactly(scaled.c, k, j)) {
+            RC_DISCARD("a shrunk exponent that does not scale exactly");
+        }
+        const auto none = [](int, const Hit<T>&, const Aabb<T>&) -> Failure { return std::nullopt; };
+        Failure f = judge_lanes<T, TypeParam::width>(scaled, conservative, none);
+        if (!f) f = judge_lanes<T, TypeParam::width>(scaled, certified, none);
+        if (!f) return std::nullopt;
+        std::ostringstream os;
+        os << "after scaling by 2^" << k << ": " << *f;
+        return os.str();
     });
 }
 
