@@ -85,7 +85,9 @@
 #include <rayproof/types.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <type_traits>
 #include <utility>
 
@@ -303,7 +305,11 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     const double inv = 1 / a;
     const double ts = mul(-b, inv), lam = mul(n, inv), rr = mul(double(s.radius), std::sqrt(inv));
     const double e_t = mul(c_t, sb * inv) + 0x1p-600, e_l = mul(c_l, pm * inv) + 0x1p-600;
-    const bool ok = int(a >= 0x1p-400) & int(a <= 0x1p1000) & (int(rad >= 0x1p-968) | int(rad == 0)) &
+    // rad, a sum of squares, is +0, positive or NaN: its bits less one are below those of
+    // 2^-968 less one exactly when 0 < rad < 2^-968 (one integer comparison; a NaN passes
+    // here and fails the finiteness test below).
+    constexpr std::uint64_t rad_floor = std::bit_cast<std::uint64_t>(0x1p-968) - 1;
+    const bool ok = int(a >= 0x1p-400) & int(a <= 0x1p1000) & int(std::bit_cast<std::uint64_t>(rad) - 1 >= rad_floor) &
                     int(e_t + e_l + lam + rr < inf<double>);
     if (!ok) [[unlikely]]
         return std::nullopt;
