@@ -458,10 +458,10 @@ private:
 
     // The plane's margin K (tracer.hpp) is gamma(12)·S/|n|, S = |offset| + Σ|n_i p_i|,
     // and gamma(13)·S/|n| in conservative mode: the kernel widens t~ = fl(N~·fl(1/D~))
-    // to fl(t~ ± E), E = 2·B0 + 2^-1022 with B0 = (e_N + |N~|·e_D·|inv|)·|inv| + 3u|t~|
+    // to fl(t~ ± E), E = 2·B0 + 2^-1022 with B0 = e_N·|inv| + |t~|·(e_D·|inv| + 3u)
     // and |t - t~| <= (1 + 2^-18)·B0 (ray_plane.hpp, plane_conservative_common), so the
     // upper end is at most t + 3.01·B0 + 3·2^-1022. For a ray leaving the plane at
-    // distance δ, t = -δ|n|/|D|, |N~|·|inv| <= (1 + 3u)|t|, e_D·|inv| <= 2^-20 and e_N <=
+    // distance δ, t = -δ|n|/|D|, |t~| <= (1 + 3u)|t|, e_D·|inv| <= 2^-20 and e_N <=
     // 4u(1 + 10u)·S + 2^-1021: the end is negative when δ|n|(1 - 3.01·2^-20 - 14u) >
     // 12.05u·S + 2^-1019·(1 + |D|), which δ >= gamma(13)·S/|n| gives with 0.9u·S/|n| to
     // spare, for S at the new origin (above S at p by O(u²·S)) and the absolute terms

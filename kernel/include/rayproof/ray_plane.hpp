@@ -354,19 +354,19 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_conservative_genera
 // |inv| in [2^-1022, max], t~ finite), |t~ - q| <= gamma(2)|q| + 2^-1075. Since |q| <=
 // (1 + 2.01u)|t~| + 2^-1074, |N~|·|inv| >= (1 - u)|q| and |inv| >= (1 - u)/|D~|,
 //     |t - t~| <= (1 + 2^-18)(e_N + |N~|·(e_D·|inv|))·|inv| + 2.01u|t~| + 2^-1073.
-// The code takes E = 2·fl(fl(fl(e_N + fl(|N~|·fl(e_D·|inv|)))·|inv|) + fl(3u·|t~|)) +
-// eta, the relative error of D~ first: r = fl(e_D·|inv|) is normal, as e_D >= (1 -
-// u)K·S_D~ (e_D >= eta covers K·S_D~ below 2^-1022) and |inv| >= (1 - u)/S_D~ (|D~| <=
-// S_D~, rounding being monotone), so r >= (1 - u)^3·K: one rounding of u. The product
-// m = fl(|N~|·r) may underflow, off by at most 2^-1075 = 2^-53·eta <= 2^-53·e_N, so
-// e_N + m >= (1 - u)(e_N + |N~|·r): one more factor. (Grouped the other way,
-// fl(|N~|·e_D) underflowed to 0 for tiny normals, n near 2^-716, and the lost term,
-// multiplied by |inv|² about 2^1436, was 2^18 ulps of t.) The last product, b =
-// fl(e·|inv|), is in units of t, its underflow inside eta. So six roundings of at most
-// (1 - u) each leave E >= 1.99·(...) + eta, which covers the bound above with room for
-// the two roundings of t~ ∓ E (u(|t~| + E), inside the doubled 3u|t~| and the
-// 0.99·(...)). So [fl(t~ - E), fl(t~ + E)] holds t: a hit of the exact answer (t in
-// [t_min, t_max]) is a hit here, and the interval encloses it.
+// The code takes E = fl(2·fl(fl(e_N·|inv|) + fl(|t~|·fl(fl(e_D·|inv|) + 3u))) + eta),
+// each term in units of t, and |t~| standing for |N~|·|inv|: |t~| >= (1 - u)|N~|·|inv| -
+// 2^-1075. The relative error of D~, r = fl(e_D·|inv|), is normal, as e_D >= (1 - u)K·S_D~
+// (e_D >= eta covers K·S_D~ below 2^-1022) and |inv| >= (1 - u)/S_D~ (|D~| <= S_D~,
+// rounding being monotone), so r >= (1 - u)^3·K: one rounding of u; and r <= 2^-19
+// (e_D <= 2^-20|D~|). Every other product is in units of t, its underflow (2^-1075 each,
+// times at most 1 + 3u) inside eta. (Grouped as fl(|N~|·e_D)·|inv|², that product
+// underflowed to 0 for tiny normals, n near 2^-716, and the lost term was 2^18 ulps of
+// t.) Six roundings of at most (1 - u) each, with the doubling exact, leave
+//     E >= 1.99·(e_N + |N~|·(e_D·|inv|))·|inv| + 5.99u|t~| + eta/2,
+// which covers the bound above with room for the two roundings of t~ ∓ E (u(|t~| + E),
+// inside the 5.99u|t~| and the 0.99·(...)). So [fl(t~ - E), fl(t~ + E)] holds t: a hit
+// of the exact answer (t in [t_min, t_max]) is a hit here, and the interval encloses it.
 // An infinite or NaN E or t~ (an overflow: huge inputs, a nearly parallel ray) and
 // everything the checks above exclude (a parallel ray, whose answer needs the exact
 // sign of N) go to plane_conservative_general.
@@ -391,8 +391,8 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray
     const double en = K * sn + eta, ed = K * sd + eta;
     const double inv = 1 / den, ai = std::abs(inv);
     const double t = num * inv;
-    const double e = en + std::abs(num) * (ed * ai);  // e_D·|inv| first: it never underflows
-    const double bound = 2 * (e * ai + 3 * u * std::abs(t)) + eta;
+    const double rel = ed * ai + 3 * u;  // D~'s relative error (never subnormal), t~'s roundings
+    const double bound = 2 * (en * ai + std::abs(t) * rel) + eta;
     const bool ok = int(ed <= 0x1p-20 * std::abs(den)) & int(ai >= std::numeric_limits<double>::min()) &
                     int(ai <= big) & int(bound <= big) &  // false for NaN; a finite bound needs a finite t
                     int(valid_range(r));
