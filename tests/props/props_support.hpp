@@ -220,6 +220,25 @@ template <class T, class Shape> std::string input_bytes(const gen::Case<T, Shape
 // Salts of the choices a property makes beyond the input (Plan::choice).
 inline constexpr std::uint64_t kScaleSalt = 1, kPermutationSalt = 2, kBatchSalt = 3, kScaledOracleSalt = 4;
 
+// The exact power-of-two scaling of case c that `choice` picks (choose_scaling, strata.hpp),
+// with k and j passed through RapidCheck's `pick` so that a failure shrinks them towards
+// ±1 and 0 (a shrunk pair that does not scale exactly is discarded). Nothing when no
+// k != 0 scales c exactly.
+template <class T, class Shape> struct ScaledCase {
+    int k, j;
+    gen::Case<T, Shape> c;  // the scaled case
+};
+template <class T, class Shape, class Pick>
+std::optional<ScaledCase<T, Shape>> scaled_case(const gen::Case<T, Shape>& c, std::uint64_t choice, Pick pick) {
+    const std::optional<Scaling> chosen = choose_scaling(c, choice);
+    if (!chosen) return std::nullopt;
+    ScaledCase<T, Shape> s{pick(chosen->k, chosen->k < 0 ? -1 : 1), pick(chosen->j, 0), c};
+    if (!scale_exactly(s.c, s.k, s.j)) {
+        RC_DISCARD("a shrunk exponent that does not scale exactly");
+    }
+    return s;
+}
+
 template <class T, class Shape> struct Tester {
     static constexpr bool has_conservative = Answerable<T, Shape, conservative_t>;
     static constexpr bool has_certified = Answerable<T, Shape, certified_t>;
@@ -316,13 +335,10 @@ template <class T, class Shape> struct Tester {
             GTEST_SKIP() << skip_reason<T, Shape>(certified);
         } else {
             run_cases<T, Shape>([](const auto& d, auto pick) -> Failure {
-                const std::optional<Scaling> chosen = choose_scaling(d.c, d.choice(kScaleSalt));
-                if (!chosen) return std::nullopt;
-                const int k = pick(chosen->k, chosen->k < 0 ? -1 : 1), j = pick(chosen->j, 0);
-                auto scaled = d.c;
-                if (!scale_exactly(scaled, k, j)) {
-                    RC_DISCARD("a shrunk exponent that does not scale exactly");
-                }
+                const std::optional<ScaledCase<T, Shape>> s = scaled_case(d.c, d.choice(kScaleSalt), pick);
+                if (!s) return std::nullopt;
+                const int k = s->k, j = s->j;
+                const gen::Case<T, Shape>& scaled = s->c;
                 const Hit<T> a = intersect(d.c.ray, d.c.shape, certified);
                 const Hit<T> b = intersect(scaled.ray, scaled.shape, certified);
                 if (a.verdict == b.verdict && a.face == b.face &&
@@ -348,13 +364,10 @@ template <class T, class Shape> struct Tester {
             GTEST_SKIP() << skip_reason<T, Shape>(certified) << "; neither is the conservative mode";
         } else {
             run_cases<T, Shape>([](const auto& d, auto pick) -> Failure {
-                const std::optional<Scaling> chosen = choose_scaling(d.c, d.choice(kScaledOracleSalt));
-                if (!chosen) return std::nullopt;
-                const int k = pick(chosen->k, chosen->k < 0 ? -1 : 1), j = pick(chosen->j, 0);
-                auto scaled = d.c;
-                if (!scale_exactly(scaled, k, j)) {
-                    RC_DISCARD("a shrunk exponent that does not scale exactly");
-                }
+                const std::optional<ScaledCase<T, Shape>> s = scaled_case(d.c, d.choice(kScaledOracleSalt), pick);
+                if (!s) return std::nullopt;
+                const int k = s->k, j = s->j;
+                const gen::Case<T, Shape>& scaled = s->c;
                 const auto e = oracle::exact(scaled.ray, scaled.shape);
                 Failure failure;
                 auto check = [&](auto mode, const char* name) {

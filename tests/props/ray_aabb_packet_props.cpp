@@ -186,19 +186,16 @@ TYPED_TEST(PacketProps, ConservativeLanesNeverMissAndEnclose) {
 TYPED_TEST(PacketProps, ScaledLanesKeepPromises) {
     using T = typename TypeParam::type;
     props::run_cases<T, Aabb<T>>([](const auto& d, auto pick) -> Failure {
-        const std::optional<props::Scaling> chosen = props::choose_scaling(d.c, d.choice(props::kScaledOracleSalt));
-        if (!chosen) return std::nullopt;
-        const int k = pick(chosen->k, chosen->k < 0 ? -1 : 1), j = pick(chosen->j, 0);
+        const auto s = props::scaled_case(d.c, d.choice(props::kScaledOracleSalt), pick);
+        if (!s) return std::nullopt;
         auto scaled = d;
-        if (!props::scale_exactly(scaled.c, k, j)) {
-            RC_DISCARD("a shrunk exponent that does not scale exactly");
-        }
+        scaled.c = s->c;
         const auto none = [](int, const Hit<T>&, const Aabb<T>&) -> Failure { return std::nullopt; };
         Failure f = judge_lanes<T, TypeParam::width>(scaled, conservative, none);
         if (!f) f = judge_lanes<T, TypeParam::width>(scaled, certified, none);
         if (!f) return std::nullopt;
         std::ostringstream os;
-        os << "after scaling by 2^" << k << ": " << *f;
+        os << "after scaling by 2^" << s->k << ": " << *f;
         return os.str();
     });
 }
