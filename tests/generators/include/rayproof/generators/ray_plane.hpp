@@ -122,10 +122,11 @@ template <class T> Case<T, Plane<T>> plane_on_boundary(Rng& rng) {
 // normal and direction whose dot product overflows T, and a crossing near the top of
 // the range with a limit a few percent from it, n·d computed with cancellation (terms
 // 2^(p+25), the sum a few ulps of them, up to half an ulp off) so that for double the
-// limit times the computed n·d overflows; and a crossing at a moderate t by a ray whose
-// n·d cancels to 2^-k of its terms (k from 4 to most of T's precision), then scaled by
-// powers of two anywhere in T's range, so that the bounds on n·d and on the numerator
-// are far apart in magnitude (products of them underflow).
+// limit times the computed n·d overflows; and a far crossing (about 2^k away, from an
+// origin near the plane) by a ray whose n·d cancels to 2^-k of its terms (k from 4 to
+// most of T's precision), then scaled by powers of two anywhere in T's range, so that
+// |t| times the bound on n·d dwarfs the numerator's terms (and products of the two
+// bounds may underflow).
 template <class T> Case<T, Plane<T>> plane_extreme(Rng& rng) {
     using L = std::numeric_limits<T>;
     Case<T, Plane<T>> c = renamed(plane_general<T>(rng), "extreme");
