@@ -127,42 +127,44 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_fast_general(const
     return h;
 }
 
-// Fast mode's common case: the same geometry with fewer divisions and square roots.
-// With inv = 1/a, the closest approach t* = -b·inv, the foot vector f = Δ + t*·d (so
-// that l² = |f|² is the squared distance from the centre to the line, computed without
-// the cancellation of |Δ|² - b²/a) and the half chord w = sqrt((r² - l²)·inv): the roots
-// are t* ∓ w (the nearer one to 0 taken as (c/a)/the farther, as at the careful
-// quadratic), and a miss (r² < l²) needs neither square root nor second division. The validity rules are folded into one probe: s = a + b + l² + r, finite
-// only when the direction, the origin, the centre and the radius are finite (an
-// infinite or NaN one makes a, b, f or r infinite or NaN: 0·inf is NaN), and a zero
-// direction gives inv = inf and b·inv = 0·inf = NaN; radius >= 0 and the range rules are
-// comparisons. An overflow, a = 0 by underflow (a tiny direction) and invalid input go
-// to sphere_fast_general, which answers them by the contract's rules.
+// Fast mode's common case: the same careful quadratic with no division before the
+// verdict. The discriminant as b² - a c' = a r² - |Δ × d|² (Lagrange's identity:
+// |Δ × d|² = |Δ|²|d|² - (Δ·d)² = a·l², l the distance from the centre to the line), so a
+// miss (a r² < |Δ × d|²) costs neither a division nor a square root, and the cross
+// product keeps l's absolute error near u·|Δ| (each component's error is a few u·|Δ||d|),
+// as the foot vector Δ - (b/a) d does, without the cancellation of |Δ|² a - b². The roots
+// as q/a and c'/q, q = -(b + sign(b)·sqrt(disc)), as in sphere_fast_general.
+// The validity rules are folded into one probe: s = (disc + c') + b is finite only when
+// the origin, the centre, the direction and the radius are finite (an infinite or NaN
+// Δ_i makes the term d_i·Δ_i of b NaN or infinite; an infinite or NaN d_i makes a, hence
+// r²·a, infinite or NaN, and disc with it; so does a NaN or infinite radius) and when
+// none of a, b, |Δ × d|², r²·a, c' overflows; a zero direction (or a = 0 by underflow),
+// a negative radius and the range rules are comparisons. Everything the probe rejects
+// goes to sphere_fast_general, which answers it by the contract's rules.
 template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_fast_common(const Ray<T>& r, const Sphere<T>& s) {
     const Vec3<T>& d = r.direction;
     const Vec3<T> delta = r.origin - s.center;
     const T rad = s.radius;
-    const T a = d.squaredNorm(), inv = T(1) / a;
-    const T b = d.dot(delta);
-    const T ts = -b * inv;
-    const Vec3<T> f = delta + ts * d;
-    const T l2 = f.squaredNorm();
-    const T sum = ((a + b) + l2) + rad;
-    if (!(int(sum - sum == 0) & int(inv - inv == 0) & int(rad >= 0) & int(valid_range(r)))) [[unlikely]]
+    const T a = d.squaredNorm(), b = d.dot(delta);
+    const T cx = delta[1] * d[2] - delta[2] * d[1], cy = delta[2] * d[0] - delta[0] * d[2],
+            cz = delta[0] * d[1] - delta[1] * d[0];
+    const T k2 = (cx * cx + cy * cy) + cz * cz;  // |Δ × d|²
+    const T r2 = rad * rad, c = delta.squaredNorm() - r2;
+    const T disc = r2 * a - k2;
+    const T probe = (disc + c) + b;
+    if (!(int(probe - probe == 0) & int(a > 0) & int(rad >= 0) & int(valid_range(r)))) [[unlikely]]
         return std::nullopt;
-    const T disc = rad * rad - l2;
     Hit<T> h;
     if (!(disc >= 0)) return h;  // as the textbook code: no root, no square root
-    // The root farther from 0 as t* ± w with no cancellation, the nearer one from the
-    // product of the roots, c/a (c = |Δ|² - r²), as the careful quadratic does.
-    const T w = std::sqrt(disc * inv);
-    const T far = ts >= 0 ? ts + w : ts - w, c = delta.squaredNorm() - rad * rad;
-    const T near = far != 0 ? (c * inv) / far : T(0);  // far == 0: a tangent at t = 0
-    const T t0 = near < far ? near : far, t1 = near < far ? far : near;
-    const bool hit = int(t0 <= r.t_max) & int(t1 >= r.t_min);
-    h.verdict = hit ? Verdict::hit : Verdict::miss;
-    h.t_enter = hit ? (t0 > r.t_min ? t0 : r.t_min) : T(0);
-    h.t_exit = hit ? (t1 < r.t_max ? t1 : r.t_max) : T(0);
+    // q == 0 only when b == 0 and disc == 0: a tangent at t = -b/a = 0 (c' is 0 then).
+    const T q = -(b + std::copysign(std::sqrt(disc), b));
+    const T t_q = q / a, t_c = q != 0 ? c / q : T(0);
+    const T t0 = std::min(t_q, t_c), t1 = std::max(t_q, t_c);
+    const T t_enter = std::max(t0, r.t_min), t_exit = std::min(t1, r.t_max);
+    const bool hit = t_enter <= t_exit;  // t0 <= t_max and t1 >= t_min on a valid range
+    h.verdict = Verdict(int(hit));
+    h.t_enter = hit ? t_enter : T(0);
+    h.t_exit = hit ? t_exit : T(0);
     return h;
 }
 
