@@ -12,7 +12,9 @@
 //   - one plane equals the half-space, decided in exact integer arithmetic on seeded
 //     integer inputs, its crossing the plane's certified t bit for bit;
 //   - a flat slab from two opposite planes with equal offsets;
-//   - invalid inputs (zero normal, non-finite numbers, the ray's own classes);
+//   - invalid inputs (zero normal, non-finite numbers, the ray's own classes), an invalid
+//     plane after the one where fast mode's pass stops, and a valid plane whose num
+//     overflows (not invalid);
 //   - verdict() == intersect().verdict in every mode; batch == scalar and PreparedRay ==
 //     Ray (and RuntimeMode::certified == certified) bit for bit in certified mode;
 //     conservative encloses the certified interval;
@@ -519,13 +521,28 @@ TYPED_TEST(RayPolyhedron, InvalidInputs) {
     for (const Plane<T>& bad : {Plane<T>{v<T>(0, 0, 0), T(1)}, Plane<T>{v<T>(-0.0, 0, -0.0), T(0)},
                                 Plane<T>{v<T>(1, 0, 0), nan}, Plane<T>{v<T>(1, 0, 0), inf},
                                 Plane<T>{v<T>(1, inf, 0), T(1)}, Plane<T>{v<T>(nan, 0, 1), T(1)}}) {
-        for (const std::vector<Plane<T>>& p : {std::vector<Plane<T>>{bad}, std::vector<Plane<T>>{good, bad},
-                                               std::vector<Plane<T>>{bad, good, good}}) {
+        // Fast mode stops its pass at the first plane that proves a miss (aside: parallel
+        // and outside; behind: an exit before the entry) and vouches for the planes after
+        // it by the rules: an invalid plane there is still found.
+        const Plane<T> aside{v<T>(0, 1, 0), T(-1)}, behind{v<T>(1, 0, 0), T(-5)};
+        for (const std::vector<Plane<T>>& p :
+             {std::vector<Plane<T>>{bad}, std::vector<Plane<T>>{good, bad}, std::vector<Plane<T>>{bad, good, good},
+              std::vector<Plane<T>>{aside, bad}, std::vector<Plane<T>>{good, behind, good, bad}}) {
             const ConvexPolyhedron<T> c{p};
             check(r, c, invalid<T>());
             EXPECT_EQ(verdict(r, c, certified), Verdict::invalid);
             EXPECT_EQ(verdict(r, c, fast), Verdict::invalid);
         }
+    }
+    // A valid plane whose num overflows (offset - n·o = +inf): the pass's finiteness
+    // probe fails, and the rules, not the probe, decide: valid, so no mode answers invalid.
+    {
+        constexpr T big = std::numeric_limits<T>::max();
+        const std::vector<Plane<T>> p = {Plane<T>{v<T>(big, 0, 0), T(0)}, good};
+        const ConvexPolyhedron<T> c{p};
+        EXPECT_NE(intersect(r, c, fast).verdict, Verdict::invalid);
+        EXPECT_NE(verdict(r, c, fast), Verdict::invalid);
+        EXPECT_NE(intersect(r, c, certified).verdict, Verdict::invalid);
     }
     // The ray's own classes, against a valid polyhedron and against no planes.
     const std::vector<Plane<T>> p = {good};
