@@ -399,7 +399,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray
     if (!ok) [[unlikely]]
         return std::nullopt;
     const double lo = t - bound, hi = t + bound, t_min = double(r.t_min), t_max = double(r.t_max);
-    const double enter = pick(lo > t_min, lo, t_min), exit = pick(hi < t_max, hi, t_max);
+    const double enter = rounded(lo > t_min ? lo : t_min), exit = rounded(hi < t_max ? hi : t_max);
     return hit_when(enter <= exit, round_down_to<T>(enter), round_up_to<T>(exit));
 }
 
