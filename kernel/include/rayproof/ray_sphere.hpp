@@ -316,13 +316,11 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     if (!ok) [[unlikely]]
         return std::nullopt;
     const double lam_lo = lam - e_l, r_hi = mul(rr, up) + 0x1p-600;
-    // Each max and min through rounded() (maxsd, minsd on x86-64): a jump on these
-    // comparisons is a coin toss, and the barrier keeps the compiler from turning the
-    // select into one around the value's later uses (as into the narrowing to float).
-    const double l0 = rounded(lam_lo > 0 ? lam_lo : 0.0), gap = r_hi - l0;
-    const double w = mul(std::sqrt(rounded(gap > 0 ? gap : 0.0) * (r_hi + l0)), up) + 0x1p-500;
+    // pick rather than ternaries: a jump on these comparisons is a coin toss.
+    const double l0 = pick(lam_lo > 0, lam_lo, 0.0), gap = r_hi - l0;
+    const double w = mul(std::sqrt(pick(gap > 0, gap, 0.0) * (r_hi + l0)), up) + 0x1p-500;
     const double half = w + e_t, lo = ts - half, hi = ts + half, t_min = double(r.t_min), t_max = double(r.t_max);
-    const double enter = rounded(lo > t_min ? lo : t_min), exit = rounded(hi < t_max ? hi : t_max);
+    const double enter = pick(lo > t_min, lo, t_min), exit = pick(hi < t_max, hi, t_max);
     return hit_when(bool(int(lam_lo <= r_hi) & int(enter <= exit)), round_down_to<T>(enter), round_up_to<T>(exit));
 }
 
