@@ -78,6 +78,14 @@ namespace rayproof::detail {
 template <class T> inline constexpr bool prepared_by_reference<ConvexPolyhedron<T>> = true;
 template <class T> using PreparedPolyhedron = Prepared<ConvexPolyhedron<T>>;
 
+// The end of fast mode's pass (below): the planes it did not vouch for checked by the
+// rules (all of them when probe is NaN, else those from `from` on), then its answer.
+template <class T>
+RAYPROOF_ALWAYS_INLINE Hit<T> poly_fast_checked(std::span<const Plane<T>> planes, std::size_t from, T probe, const Hit<T>& h) {
+    const std::span<const Plane<T>> unchecked = probe == 0 ? planes.subspan(from) : planes;
+    return valid(ConvexPolyhedron<T>{unchecked}) ? h : invalid_hit<T>();
+}
+
 // Fast mode checks the planes' validity inside its pass instead of before it (prepare()'s
 // flag, a separate loop over every plane, cost as much as 40% of the query): for a valid
 // ray (o finite, d finite and nonzero), num_k = offset_k - n_k·o is NaN or infinite
@@ -87,14 +95,6 @@ template <class T> using PreparedPolyhedron = Prepared<ConvexPolyhedron<T>>;
 // the pass sums num_k - num_k (+0 for a finite num_k, NaN otherwise) and tests nonzero3
 // where den_k == 0; a NaN sum (an invalid plane, or an overflow of a valid one) and the
 // planes after an early miss are left to valid(), the rules themselves.
-// The end of fast mode's pass, out of line: the planes it did not vouch for checked by the
-// rules (all of them when probe is NaN, else those from `from` on), then its answer.
-template <class T>
-RAYPROOF_ALWAYS_INLINE Hit<T> poly_fast_checked(std::span<const Plane<T>> planes, std::size_t from, T probe, const Hit<T>& h) {
-    const std::span<const Plane<T>> unchecked = probe == 0 ? planes.subspan(from) : planes;
-    return valid(ConvexPolyhedron<T>{unchecked}) ? h : invalid_hit<T>();
-}
-
 // Inlined, so that the flag prepare() computes goes unused and unevaluated.
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPolyhedron<T>& p, fast_t) {
     if (!valid(r)) return invalid_hit<T>();
