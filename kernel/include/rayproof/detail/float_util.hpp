@@ -18,6 +18,14 @@
 #else
 #define RAYPROOF_ALWAYS_INLINE inline
 #endif
+// A lambda forced inline likewise (placed after its parameter list): a query's helper
+// lambdas, and the lambda handed to in_default_fp_env_inline (detail/fp_env.hpp), so
+// that the guarded query is the same inline code as the plain one.
+#if defined(__GNUC__) || defined(__clang__)
+#define RAYPROOF_INLINE_LAMBDA __attribute__((always_inline))
+#else
+#define RAYPROOF_INLINE_LAMBDA
+#endif
 // A loop over the three axes unrolled in full (g++ -O2 keeps it rolled, with its
 // arrays in memory).
 #if defined(__clang__)

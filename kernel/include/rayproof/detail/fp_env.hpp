@@ -100,14 +100,6 @@
 #include <cfenv>
 #endif
 
-// A lambda handed to in_default_fp_env_inline is forced inline as well (placed after its
-// parameter list), so that the guarded query is the same inline code as the plain one.
-#if defined(__GNUC__) || defined(__clang__)
-#define RAYPROOF_INLINE_LAMBDA __attribute__((always_inline))
-#else
-#define RAYPROOF_INLINE_LAMBDA
-#endif
-
 namespace rayproof::detail {
 
 #if defined(RAYPROOF_FP_ENV_MXCSR)
