@@ -77,7 +77,7 @@ RAYPROOF_ALWAYS_INLINE int pick_int(bool first, int a, int b) {
 // The next representable value above / below x, by bit manipulation (no errno, inline).
 // step_up(+inf) is +inf and step_down(-inf) is -inf; step_up(±0) is the smallest
 // positive subnormal, step_down(±0) its negation.
-template <class T> inline T step_up(T x) {
+template <class T> RAYPROOF_ALWAYS_INLINE T step_up(T x) {
     static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
     if (std::isinf(x) && x > 0) return x;
     if (x == 0) return std::numeric_limits<T>::denorm_min();
@@ -85,7 +85,7 @@ template <class T> inline T step_up(T x) {
     b = x > 0 ? b + 1 : b - 1;
     return std::bit_cast<T>(b);
 }
-template <class T> inline T step_down(T x) {
+template <class T> RAYPROOF_ALWAYS_INLINE T step_down(T x) {
     static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
     if (std::isinf(x) && x < 0) return x;
     if (x == 0) return -std::numeric_limits<T>::denorm_min();
