@@ -46,7 +46,8 @@
 //            the roots estimated in double as the fast mode does, each refined by one
 //            Newton step on a double-word q(x) and proven by the signs of q at the
 //            candidate float and a neighbour (from the exact expansion q(x + δ) =
-//            q(x) + δ(a(2x + δ) + 2b)); a miss proven by a bound on the line's distance
+//            q(x) + δ(a(2x + δ) + 2b)), both roots side by side in two lanes; a miss
+//            proven by a bound on the line's distance
 //            from the centre, or by q > 0 with the slope pointing away at an end of the
 //            range. It answers for input magnitudes in [2^-300, 2^300] (or 0) and gives
 //            the general path's answer bit for bit; everything it cannot prove goes to

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <rayproof/detail/eft.hpp>
+#include <rayproof/detail/lanes.hpp>
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/types.hpp>
 
@@ -12,6 +13,7 @@
 #include <cstddef>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace rayproof::detail {
 
@@ -80,6 +82,15 @@ template <class T> std::array<double, 3> double3(const Vec3<T>& v) { return {dou
 // gamma(d - 1)(1 + u) <= gamma(d) covers its exact |p| <= (1 + u)|fl(p)| in Σ|τ|; in Ŝ
 // and in err every operand is >= 0, so an unrounded product only raises the bound, and
 // the count above, with fewer roundings, still holds).
+// Two points side by side (value_at on lanes::D2, lane 0 and lane 1): the same operations
+// in each lane, with lanes::exact_product for two_prod. Both are exact under
+// exact_product's conditions (detail/lanes.hpp: factors of magnitude at most 2^995, not
+// subnormal, a nonzero product at least 2^-916), and then each lane computes the scalar
+// value_at's bits. The caller keeps every d_j 0 or of magnitude in [2^-300, 2^300] (the
+// certified straight-line path's range); a lane whose t is not 0 or in [2^-600, 2^620],
+// or one of whose W_j is not 0 or in [2^-450, 2^450], gets err = +inf (it decides
+// nothing): otherwise every nonzero product t·d_j and W_j² lies in [2^-900, 2^920]. The
+// overflow guard is the same comparison, per lane.
 class SphereResidual {
 public:
     SphereResidual(const std::array<double, 3>& o, const std::array<double, 3>& d, const std::array<double, 3>& c,
@@ -87,36 +98,13 @@ public:
         : d_(d), r2_(two_prod(radius, radius)) {
         for (std::size_t j = 0; j < 3; ++j) oc_[j] = two_sum(o[j], -c[j]);
     }
-    struct Value {
-        double v, err;  // |q(t) - v| <= err; err = +inf when a guard fails
+    template <class V> struct ValueOf {
+        V v, err;  // |q(t) - v| <= err; err = +inf when a guard fails
     };
-    Value value_at(double t) const {
-        constexpr double g2 = gamma<double>(2), g7 = gamma<double>(7), u = unit_roundoff<double>;
-        constexpr double c = 1 + gamma<double>(20);  // >= 1 + gamma(19) >= (1 - u)^-19: see above
-        static_assert(c == 1 + 20 * u);
-        double W[3], om[3], A[3], small = -r2_.lo, abs_small = std::abs(r2_.lo), F = 0;
-        for (std::size_t j = 0; j < 3; ++j) {
-            const Pair p = two_prod(t, d_[j]);
-            const Pair x = two_sum(oc_[j].hi, p.hi);
-            W[j] = x.hi;
-            om[j] = (x.lo + oc_[j].lo) + p.lo;
-            const double beta = g2 * (std::abs(x.lo) + std::abs(oc_[j].lo) + std::abs(p.lo)) + 0x1p-1022;
-            F += beta * (2 * std::abs(W[j]) + 2 * std::abs(om[j]) + beta);
-            const Pair sq = two_prod(W[j], W[j]);
-            A[j] = sq.hi;
-            const double m = 2 * W[j] * om[j], k = om[j] * om[j];
-            small += (sq.lo + m) + k;
-            abs_small += (std::abs(sq.lo) + std::abs(m)) + k;
-        }
-        if (!(A[0] + A[1] + A[2] + r2_.hi <= 0x1p1000)) return {0, std::numeric_limits<double>::infinity()};
-        const Pair s1 = two_sum(A[0], A[1]);
-        const Pair s2 = two_sum(s1.hi, A[2]);
-        const Pair s3 = two_sum(s2.hi, -r2_.hi);
-        small += (s1.lo + s2.lo) + s3.lo;
-        abs_small += (std::abs(s1.lo) + std::abs(s2.lo)) + std::abs(s3.lo);
-        const double v = s3.hi + small;
-        return {v, c * ((g7 * abs_small + F) + u * std::abs(v)) + 0x1p-1000};
-    }
+    using Value = ValueOf<double>;
+    Value value_at(double t) const { return value_of(t); }
+    // Two points at once, lane by lane (see the class comment).
+    RAYPROOF_ALWAYS_INLINE ValueOf<lanes::D2> value_at(lanes::D2 t) const { return value_of(t); }
     int sign_at(double t) const {
         const Value q = value_at(t);
         if (q.v > q.err) return 1;
@@ -125,6 +113,63 @@ public:
     }
 
 private:
+    template <class V> RAYPROOF_ALWAYS_INLINE ValueOf<V> value_of(V t) const {
+        using std::abs;
+        using lanes::abs;
+        constexpr bool paired = std::is_same_v<V, lanes::D2>;
+        const auto k = [](double x) {
+            if constexpr (paired)
+                return lanes::splat(x);
+            else
+                return x;
+        };
+        const auto product = [](V a, V b) {
+            if constexpr (paired)
+                return lanes::exact_product(a, b);
+            else
+                return two_prod(a, b);
+        };
+        constexpr double g2 = gamma<double>(2), g7 = gamma<double>(7), u = unit_roundoff<double>;
+        constexpr double c = 1 + gamma<double>(20);  // >= 1 + gamma(19) >= (1 - u)^-19: see above
+        static_assert(c == 1 + 20 * u);
+        V W[3], om[3], A[3], small = k(-r2_.lo), abs_small = k(std::abs(r2_.lo)), F = k(0.0);
+        [[maybe_unused]] lanes::M2 exact;
+        if constexpr (paired) exact = in_band(t, 0x1p-600, 0x1p620);
+        for (std::size_t j = 0; j < 3; ++j) {
+            const SumOf<V> p = product(t, k(d_[j]));
+            const SumOf<V> x = two_sum(k(oc_[j].hi), p.hi);
+            W[j] = x.hi;
+            om[j] = (x.lo + k(oc_[j].lo)) + p.lo;
+            const V beta = k(g2) * ((abs(x.lo) + k(std::abs(oc_[j].lo))) + abs(p.lo)) + k(0x1p-1022);
+            F = F + beta * ((k(2.0) * abs(W[j]) + k(2.0) * abs(om[j])) + beta);
+            if constexpr (paired) exact = exact & in_band(W[j], 0x1p-450, 0x1p450);
+            const SumOf<V> sq = product(W[j], W[j]);
+            A[j] = sq.hi;
+            const V m = k(2.0) * W[j] * om[j], kk = om[j] * om[j];
+            small = small + ((sq.lo + m) + kk);
+            abs_small = abs_small + ((abs(sq.lo) + abs(m)) + kk);
+        }
+        const V top = ((A[0] + A[1]) + A[2]) + k(r2_.hi);
+        if constexpr (!paired)
+            if (!(top <= 0x1p1000)) return {0, std::numeric_limits<double>::infinity()};
+        const SumOf<V> s1 = two_sum(A[0], A[1]);
+        const SumOf<V> s2 = two_sum(s1.hi, A[2]);
+        const SumOf<V> s3 = two_sum(s2.hi, -k(r2_.hi));
+        small = small + ((s1.lo + s2.lo) + s3.lo);
+        abs_small = abs_small + ((abs(s1.lo) + abs(s2.lo)) + abs(s3.lo));
+        const V v = s3.hi + small;
+        const V err = k(c) * ((k(g7) * abs_small + F) + k(u) * abs(v)) + k(0x1p-1000);
+        if constexpr (paired)
+            return {v, lanes::select(exact & (top <= k(0x1p1000)), err, k(std::numeric_limits<double>::infinity()))};
+        else
+            return {v, err};
+    }
+    // Each lane 0 or of magnitude in [lo, hi].
+    static RAYPROOF_ALWAYS_INLINE lanes::M2 in_band(lanes::D2 x, double lo, double hi) {
+        const lanes::D2 a = lanes::abs(x);
+        return ((a >= lanes::splat(lo)) | (a == lanes::splat(0.0))) & (a <= lanes::splat(hi));
+    }
+
     Pair oc_[3];
     std::array<double, 3> d_;
     Pair r2_;

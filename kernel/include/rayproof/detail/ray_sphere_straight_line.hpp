@@ -40,6 +40,9 @@ namespace rayproof::detail {
 struct SphereCheapSigns {
     int q, slope;
 };
+struct SphereCheapPair {
+    int pos, neg;
+};
 RAYPROOF_ALWAYS_INLINE SphereCheapSigns sphere_cheap_signs(const double (&delta)[3], const double (&d)[3], double rad,
                                                            double t) {
     constexpr double eta = 0x1p-1000, g9 = 2 * gamma<double>(9), g6 = 2 * gamma<double>(6);
@@ -89,37 +92,36 @@ struct SphereLine {
     double threshold;  // 2·fl(gamma(11)·(n + Σ|Δ~_j| + Σ|P_j|)) + 2^-500
     bool in_range;     // every nonzero input magnitude in [2^-300, 2^300]
 };
+// Written out per axis in locals: with the values stored to arrays in a loop, g++ -O2
+// packed pairs of them into 16-byte loads of what had just been stored as 8-byte values,
+// whose store forwarding fails; that stall took 26 of this routine's 33 ns.
 template <class T> RAYPROOF_ALWAYS_INLINE SphereLine sphere_line(const Ray<T>& r, const Sphere<T>& s) {
     constexpr double g11 = 2 * gamma<double>(11), lo_mag = 0x1p-300, hi_mag = 0x1p300;
     SphereLine L;
-    L.rad = double(s.radius);
-    // The largest input magnitude, and the smallest nonzero one (1 when all are 0).
+    const double rad = double(s.radius);
+    const double o0 = double(r.origin[0]), o1 = double(r.origin[1]), o2 = double(r.origin[2]);
+    const double c0 = double(s.center[0]), c1 = double(s.center[1]), c2 = double(s.center[2]);
+    const double d0 = double(r.direction[0]), d1 = double(r.direction[1]), d2 = double(r.direction[2]);
+    const double e0 = o0 - c0, e1 = o1 - c1, e2 = o2 - c2;
     auto nonzero_abs = [](double v) { return v == 0 ? 1.0 : std::abs(v); };
-    double largest = std::abs(L.rad), smallest = nonzero_abs(L.rad);
+    double largest = std::abs(rad), smallest = nonzero_abs(rad);
     for (int j = 0; j < 3; ++j) {
-        const double o = double(r.origin[j]), c = double(s.center[j]);
-        L.d[j] = double(r.direction[j]);
-        L.delta[j] = o - c;
-        largest = std::max(largest, std::max(std::max(std::abs(o), std::abs(c)), std::abs(L.d[j])));
-        smallest = std::min(smallest, std::min(std::min(nonzero_abs(o), nonzero_abs(c)), nonzero_abs(L.d[j])));
+        const double o = double(r.origin[j]), c = double(s.center[j]), dj = double(r.direction[j]);
+        largest = std::max(largest, std::max(std::max(std::abs(o), std::abs(c)), std::abs(dj)));
+        smallest = std::min(smallest, std::min(std::min(nonzero_abs(o), nonzero_abs(c)), nonzero_abs(dj)));
     }
     L.in_range = largest <= hi_mag && smallest >= lo_mag;
-    const double(&d)[3] = L.d;
-    const double(&delta)[3] = L.delta;
-    L.a = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-    L.b = d[0] * delta[0] + d[1] * delta[1] + d[2] * delta[2];
-    const double f = L.b / L.a;
-    double n2 = 0, sum_dl = 0, sum_p = 0, cc = -L.rad * L.rad;
-    for (int j = 0; j < 3; ++j) {
-        const double p = f * d[j], m = delta[j] - p;
-        n2 += m * m;
-        sum_dl += std::abs(delta[j]);
-        sum_p += std::abs(p);
-        cc += delta[j] * delta[j];
-    }
-    L.cc = cc;
+    const double a = d0 * d0 + d1 * d1 + d2 * d2, b = d0 * e0 + d1 * e1 + d2 * e2;
+    const double f = b / a;
+    const double p0 = f * d0, p1 = f * d1, p2 = f * d2, m0 = e0 - p0, m1 = e1 - p1, m2 = e2 - p2;
+    const double n2 = m0 * m0 + m1 * m1 + m2 * m2;
+    L.cc = ((-rad * rad + e0 * e0) + e1 * e1) + e2 * e2;
     L.n = std::sqrt(n2);
+    const double sum_dl = (std::abs(e0) + std::abs(e1)) + std::abs(e2), sum_p = (std::abs(p0) + std::abs(p1)) + std::abs(p2);
     L.threshold = g11 * (L.n + sum_dl + sum_p) + 0x1p-500;
+    L.rad = rad, L.a = a, L.b = b;
+    L.d[0] = d0, L.d[1] = d1, L.d[2] = d2;
+    L.delta[0] = e0, L.delta[1] = e1, L.delta[2] = e2;
     return L;
 }
 
@@ -209,42 +211,46 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified
     // slack: e_σ is not doubled again, and the realized |σ~ - σ| can reach about
     // 5u|A~| + 8u·C + u|σ~| (every rounding above at its worst, aligned).
     constexpr double g7 = gamma<double>(7), u = unit_roundoff<double>;
+    using namespace lanes;
     const double cab = std::abs(d[0] * delta[0]) + std::abs(d[1] * delta[1]) + std::abs(d[2] * delta[2]);
-    auto refine = [&](double x, T& g) {
-        const SphereResidual::Value qx = res.value_at(x);
-        g = narrow<T>(x - qx.v / (2 * (a * x + b)));
-        if (g == 0) g = T(0);
-        return qx;
+    // Both roots side by side: lane 0 refines and proves the entry root's estimate t0,
+    // lane 1 the exit root's t1, each lane the scalar formulas above (value_at on D2,
+    // ray_sphere_residual.hpp).
+    const D2 x = make(t0, t1);
+    const SphereResidual::ValueOf<D2> qx = res.value_at(x);
+    const D2 gx = x - qx.v / ((splat(a) * x + splat(b)) * splat(2.0));
+    const T g0 = sphere_canonical(narrow<T>(lane0(gx))), g1 = sphere_canonical(narrow<T>(lane1(gx)));
+    // The signs of q at y (lane 0 next to t0, lane 1 next to t1): bit k of pos (neg) set
+    // when q(y_k) is proven > 0 (< 0).
+    const D2 va = splat(a), vb2 = splat(2 * b), vcab2 = splat(2 * cab);
+    auto sign_near = [&](T y0, T y1) RAYPROOF_INLINE_LAMBDA {
+        const SumOf<D2> dd = two_sum(make(double(y0), double(y1)), -x);
+        const D2 del = dd.hi;
+        const D2 ax = va * (x * splat(2.0) + del), sig = ax + vb2;
+        const D2 e_sig = splat(g7) * (abs(ax) + vcab2);
+        const D2 V = qx.v + del * sig;
+        const D2 thr = splat(2.0) * (qx.err + abs(del) * (e_sig + splat(u) * abs(sig))) + splat(0x1p-1000);
+        const M2 usable = (dd.lo == splat(0.0)) & (thr <= splat(0x1p1000));
+        return SphereCheapPair{bits(usable & (V > thr)), bits(usable & (V < -thr))};
     };
-    auto sign_near = [&](const SphereResidual::Value& qx, double x, T y) {
-        const Pair dd = two_sum(double(y), -x);
-        const double del = dd.hi;
-        const double xs = 2 * x + del, ax = a * xs, sig = ax + 2 * b;
-        const double e_sig = g7 * (std::abs(ax) + 2 * cab);
-        const double V = qx.v + del * sig;
-        const double thr = 2 * (qx.err + std::abs(del) * (e_sig + u * std::abs(sig))) + 0x1p-1000;
-        if (dd.lo != 0 || !(thr <= 0x1p1000)) return 2;
-        return V > thr ? 1 : V < -thr ? -1 : 2;
-    };
-    T t_enter, t_exit;
-    if (q_min <= 0) {
-        t_enter = r.t_min;
-    } else {
-        T g;
-        const SphereResidual::Value qx = refine(t0, g);
-        const std::optional<T> e = sphere_pin_enter(r, g, [&](T y) { return sign_near(qx, t0, y); });
-        if (!e) return std::nullopt;
-        t_enter = *e;
-    }
-    if (q_max <= 0) {
-        t_exit = r.t_max;
-    } else {
-        T g;
-        const SphereResidual::Value qx = refine(t1, g);
-        const std::optional<T> e = sphere_pin_exit(r, g, [&](T y) { return sign_near(qx, t1, y); });
-        if (!e) return std::nullopt;
-        t_exit = *e;
-    }
+    const T up0 = step_up(g0), down1 = step_down(g1);
+    const SphereCheapPair at = sign_near(g0, g1), inner = sign_near(step_down(g0), step_up(g1)),
+                          outer = sign_near(up0, down1);
+    // The decisions of sphere_pin_enter (lane 0) and sphere_pin_exit (lane 1) on these
+    // signs: the float where q's proven sign changes, g or its neighbour on the root's
+    // side. The signs at g's neighbours on both sides are computed whichever the pins
+    // read: which side of the root g lands on is a coin toss, and a branch on it cost
+    // more than the third evaluation.
+    const T lo = r.t_min, hi = r.t_max;
+    const bool e_at = (at.neg & 1) && g0 <= hi && (inner.pos & 1);
+    const bool e_up = (at.pos & 1) && up0 <= hi && (outer.neg & 1);
+    const bool x_at = (at.neg & 2) && g1 >= lo && (inner.pos & 2);
+    const bool x_down = (at.pos & 2) && down1 >= lo && (outer.neg & 2);
+    const bool enter_ok = q_min <= 0 || (std::isfinite(g0) && g0 > lo && (e_at || e_up));
+    const bool exit_ok = q_max <= 0 || (std::isfinite(g1) && g1 < hi && (x_at || x_down));
+    if (!(enter_ok && exit_ok)) return std::nullopt;
+    const T t_enter = q_min <= 0 ? lo : e_at ? g0 : sphere_canonical(up0);
+    const T t_exit = q_max <= 0 ? hi : x_at ? g1 : sphere_canonical(down1);
     h.verdict = Verdict::hit;
     h.t_enter = t_enter > t_exit ? t_exit : t_enter;
     h.t_exit = t_exit;
@@ -254,9 +260,6 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified
 // sphere_cheap_signs's q at two points at once (lane 0: y0, lane 1: y1), the same
 // operations and the same bound in each lane; bit k of pos (neg) set when q(y_k) is
 // certainly > 0 (< 0). A threshold above 2^1000 decides nothing, as there.
-struct SphereCheapPair {
-    int pos, neg;
-};
 RAYPROOF_ALWAYS_INLINE SphereCheapPair sphere_cheap_q2(const double (&delta)[3], const double (&d)[3], double rad,
                                                        double y0, double y1) {
     using namespace lanes;
