@@ -521,9 +521,10 @@ TYPED_TEST(RayPolyhedron, InvalidInputs) {
     for (const Plane<T>& bad : {Plane<T>{v<T>(0, 0, 0), T(1)}, Plane<T>{v<T>(-0.0, 0, -0.0), T(0)},
                                 Plane<T>{v<T>(1, 0, 0), nan}, Plane<T>{v<T>(1, 0, 0), inf},
                                 Plane<T>{v<T>(1, inf, 0), T(1)}, Plane<T>{v<T>(nan, 0, 1), T(1)}}) {
-        // Fast mode stops its pass at the first plane that proves a miss (aside: parallel
+        // Every mode's pass stops at the first plane that proves a miss (aside: parallel
         // and outside; behind: an exit before the entry) and vouches for the planes after
-        // it by the rules: an invalid plane there is still found.
+        // it by the rules: an invalid plane there is still found (check() runs fast,
+        // conservative and certified).
         const Plane<T> aside{v<T>(0, 1, 0), T(-1)}, behind{v<T>(1, 0, 0), T(-5)};
         for (const std::vector<Plane<T>>& p :
              {std::vector<Plane<T>>{bad}, std::vector<Plane<T>>{good, bad}, std::vector<Plane<T>>{bad, good, good},
@@ -542,7 +543,9 @@ TYPED_TEST(RayPolyhedron, InvalidInputs) {
         const ConvexPolyhedron<T> c{p};
         EXPECT_NE(intersect(r, c, fast).verdict, Verdict::invalid);
         EXPECT_NE(verdict(r, c, fast), Verdict::invalid);
+        EXPECT_NE(intersect(r, c, conservative).verdict, Verdict::invalid);
         EXPECT_NE(intersect(r, c, certified).verdict, Verdict::invalid);
+        EXPECT_NE(verdict(r, c, certified), Verdict::invalid);
     }
     // The ray's own classes, against a valid polyhedron and against no planes.
     const std::vector<Plane<T>> p = {good};
