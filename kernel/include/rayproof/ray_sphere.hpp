@@ -312,8 +312,14 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     // 2^-968 less one exactly when 0 < rad < 2^-968 (one integer comparison; a NaN passes
     // here and fails the finiteness test below).
     constexpr std::uint64_t rad_floor = std::bit_cast<std::uint64_t>(0x1p-968) - 1;
+    // The same test vouches for the input (the query checks no validity before it): a~ in
+    // [2^-400, 2^1000] means d finite and nonzero; a finite e_t means every Δ~_j = fl(o_j -
+    // c_j) finite (a NaN or infinite one makes its |d_j Δ~_j| NaN or infinite, 0·inf
+    // being NaN), hence o and c finite (inf - x is infinite, inf - inf NaN); with r >= 0
+    // (false for NaN and -inf) a finite rr means a finite radius; and the range rules
+    // are valid_range's. What it declines is validated in full (query, below).
     const bool ok = int(a >= 0x1p-400) & int(a <= 0x1p1000) & int(std::bit_cast<std::uint64_t>(rad) - 1 >= rad_floor) &
-                    int(e_t + e_l + lam + rr < inf<double>);
+                    int(e_t + e_l + lam + rr < inf<double>) & int(s.radius >= 0) & int(valid_range(r));
     if (!ok) [[unlikely]]
         return std::nullopt;
     const double lam_lo = lam - e_l, r_hi = mul(rr, up) + 0x1p-600;
@@ -328,9 +334,15 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
 template <class R, class T>
     requires RayOrPrepared<R, T>
 RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, conservative_t) {
-    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    // A prepared ray's validity is decided already; otherwise the straight-line path
+    // vouches for the input where it answers (sphere_conservative_common), so prepare()'s
+    // flag goes unread and unevaluated, and what it declines is validated in full.
+    if constexpr (is_prepared_ray_v<R>)
+        if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
-    return common_or_fallback(sphere_conservative_common(r, p.shape), [&] { return sphere_conservative_general(r, p.shape); });
+    return common_or_fallback(sphere_conservative_common(r, p.shape), [&] {
+        return !valid(p.shape) || !valid(r) ? invalid_hit<T>() : sphere_conservative_general(r, p.shape);
+    });
 }
 
 template <class R, class T>
