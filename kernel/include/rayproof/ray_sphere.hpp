@@ -178,19 +178,26 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, fa
     return common_or_fallback(sphere_fast_common(r, p.shape), [&] { return sphere_fast_general(r, p.shape); });
 }
 
-// The certified answer for valid input, shared by the certified mode and by the
-// conservative mode's fallback: the straight-line path when it answers, else the
-// general path.
+// The certified answer, shared by the certified mode and by the conservative mode's
+// fallback: the straight-line path when it answers, else the general path. The
+// straight-line paths answer only for valid input (each vouches for it from its own
+// numbers: sphere_certified_float, sphere_certified_common), so the input is validated
+// in full only where they decline, before the general path.
 // For float, the float straight-line path first (no double-word arithmetic); what it
 // declines, out of line, goes to the double-word straight-line path and the general path.
+template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_certified_checked_general(const Ray<T>& r,
+                                                                                        const Sphere<T>& s) {
+    return !valid(s) || !valid(r) ? invalid_hit<T>() : sphere_certified_general(r, s);
+}
 template <class T> [[gnu::noinline]] Hit<T> sphere_certified_declined(const Ray<T>& r, const Sphere<T>& s) {
+    if (!valid(s) || !valid(r)) return invalid_hit<T>();
     return common_or_general(sphere_certified_common(r, s), [&] { return sphere_certified_general(r, s); });
 }
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> sphere_certified_answer(const Ray<T>& r, const Sphere<T>& s) {
     if constexpr (std::is_same_v<T, float>)
         return common_or_general(sphere_certified_float(r, s), [&] { return sphere_certified_declined(r, s); });
     else
-        return common_or_general(sphere_certified_common(r, s), [&] { return sphere_certified_general(r, s); });
+        return common_or_general(sphere_certified_common(r, s), [&] { return sphere_certified_checked_general(r, s); });
 }
 
 // The conservative answer by interval arithmetic per operation: what
@@ -348,7 +355,11 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, co
 template <class R, class T>
     requires RayOrPrepared<R, T>
 RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, certified_t) {
-    if (!p.ok || !valid(ray)) return invalid_hit<T>();
+    // A prepared ray's validity is decided already; otherwise the straight-line paths
+    // vouch for the input where they answer (sphere_certified_answer), so prepare()'s
+    // flag goes unread and unevaluated.
+    if constexpr (is_prepared_ray_v<R>)
+        if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
     return sphere_certified_answer(r, p.shape);
 }

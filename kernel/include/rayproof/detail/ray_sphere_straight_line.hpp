@@ -10,6 +10,7 @@
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/ray_sphere_residual.hpp>
 #include <rayproof/detail/ray_sphere_verdict.hpp>
+#include <rayproof/detail/validate.hpp>
 #include <rayproof/types.hpp>
 
 #include <algorithm>
@@ -155,7 +156,16 @@ RAYPROOF_ALWAYS_INLINE std::optional<T> sphere_pin_exit(const Ray<T>& r, T g, Si
 template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified_common(const Ray<T>& r,
                                                                                           const Sphere<T>& s) {
     const SphereLine L = sphere_line(r, s);
-    if (!L.in_range) return std::nullopt;
+    // The input vouched for (the certified query checks no validity before this path):
+    // the threshold is finite only when every Δ~_j = fl(o_j - c_j) is (it sums their
+    // magnitudes), hence o and c are finite (inf - x is infinite, inf - inf NaN), and
+    // when d is (a non-finite d_j makes a non-finite or NaN, and f = b/a NaN, which the
+    // sum of |f d_j| carries); c' = Δ~·Δ~ - r² is finite only with a finite radius; a > 0
+    // means d nonzero; r >= 0 (false for NaN) and valid_range do the rest. What this
+    // declines is validated in full (sphere_certified_answer).
+    const double probe = L.threshold + L.cc;
+    const bool input_ok = int(probe - probe == 0) & int(L.a > 0) & int(s.radius >= 0) & int(valid_range(r));
+    if (!(L.in_range && input_ok)) return std::nullopt;
     const double(&d)[3] = L.d;
     const double(&delta)[3] = L.delta;
     const double rad = L.rad, a = L.a, b = L.b, n = L.n, cc = L.cc;
@@ -341,6 +351,14 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified
     const double b = d[0] * delta[0] + d[1] * delta[1] + d[2] * delta[2];
     const double cc = ((delta[0] * delta[0] - rr) + delta[1] * delta[1]) + delta[2] * delta[2];
     const SphereLineCertificate lc = sphere_line_certificate(d, delta, rr, a);
+    // The input vouched for (the certified query checks no validity before this path):
+    // with a > 0 (d nonzero), E is finite only when o, c, d and r are: a non-finite d_j
+    // makes a, hence max(a, 2^50), non-finite or NaN; a non-finite Δ_j = o_j - c_j (o_j or
+    // c_j non-finite) enters two of the M_k as Δ_j times a component of d, infinite, or
+    // NaN when that component is 0; a non-finite radius makes R = r²·a infinite or NaN.
+    // r >= 0 (false for NaN) and valid_range do the rest. What this declines is
+    // validated in full (sphere_certified_declined).
+    if (!(int(lc.E < inf<double>) & int(a > 0) & int(s.radius >= 0) & int(valid_range(r)))) return std::nullopt;
     Hit<T> h;
     if (lc.D > lc.E) return h;  // the line's distance from the centre exceeds r
     // b² - a c' = a (r² - l²) = r² a - |Δ × d|² = -D, up to rounding: the estimates.
