@@ -84,9 +84,7 @@ namespace rayproof::detail {
 
 // Each lane 0 or of magnitude in [2^-450, top] (false for NaN and infinities).
 RAYPROOF_ALWAYS_INLINE lanes::M2 in_range(lanes::D2 x, lanes::D2 top) {
-    using namespace lanes;
-    const D2 a = abs(x);
-    return ((a >= splat(0x1p-450)) | (a == splat(0.0))) & (a <= top);
+    return lanes::in_band(x, lanes::splat(0x1p-450), top);
 }
 RAYPROOF_ALWAYS_INLINE lanes::M2 in_range(lanes::D2 x) { return in_range(x, lanes::splat(0x1p490)); }
 

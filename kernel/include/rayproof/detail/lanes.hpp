@@ -207,6 +207,14 @@ RAYPROOF_ALWAYS_INLINE Product exact_product(D2 a, D2 b) {
 // valid.
 RAYPROOF_ALWAYS_INLINE M2 valid_range_lanes(D2 ordered) { return ordered + swap(ordered) <= splat(0.0); }
 
+// Each lane 0 or of magnitude in [lo, hi] (ordered comparisons: false on a NaN): the
+// range tests of the exact products' users (compensated.hpp's in_range, the sphere's
+// residual, ray_sphere_residual.hpp).
+RAYPROOF_ALWAYS_INLINE M2 in_band(D2 x, D2 lo, D2 hi) {
+    const D2 a = abs(x);
+    return ((a >= lo) | (a == splat(0.0))) & (a <= hi);
+}
+
 // Floats K to K + 3 of an object made of N floats and nothing else, as (f_K, f_K+1) and
 // (f_K+2, f_K+3), exact: a Ray<float> is o0 o1 o2 d0 | d1 d2 t_min t_max, an
 // Aabb<float> lo0 lo1 lo2 hi0 | hi1 hi2, a Plane<float> n0 n1 n2 offset. Standard layout

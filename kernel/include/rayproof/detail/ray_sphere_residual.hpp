@@ -134,7 +134,7 @@ private:
         static_assert(c == 1 + 20 * u);
         V W[3], om[3], A[3], small = k(-r2_.lo), abs_small = k(std::abs(r2_.lo)), F = k(0.0);
         [[maybe_unused]] lanes::M2 exact;
-        if constexpr (paired) exact = in_band(t, 0x1p-600, 0x1p620);
+        if constexpr (paired) exact = lanes::in_band(t, k(0x1p-600), k(0x1p620));
         for (std::size_t j = 0; j < 3; ++j) {
             const SumOf<V> p = product(t, k(d_[j]));
             const SumOf<V> x = two_sum(k(oc_[j].hi), p.hi);
@@ -142,7 +142,7 @@ private:
             om[j] = (x.lo + k(oc_[j].lo)) + p.lo;
             const V beta = k(g2) * ((abs(x.lo) + k(std::abs(oc_[j].lo))) + abs(p.lo)) + k(0x1p-1022);
             F = F + beta * ((k(2.0) * abs(W[j]) + k(2.0) * abs(om[j])) + beta);
-            if constexpr (paired) exact = exact & in_band(W[j], 0x1p-450, 0x1p450);
+            if constexpr (paired) exact = exact & lanes::in_band(W[j], k(0x1p-450), k(0x1p450));
             const SumOf<V> sq = product(W[j], W[j]);
             A[j] = sq.hi;
             const V m = k(2.0) * W[j] * om[j], kk = om[j] * om[j];
@@ -164,12 +164,6 @@ private:
         else
             return {v, err};
     }
-    // Each lane 0 or of magnitude in [lo, hi].
-    static RAYPROOF_ALWAYS_INLINE lanes::M2 in_band(lanes::D2 x, double lo, double hi) {
-        const lanes::D2 a = lanes::abs(x);
-        return ((a >= lanes::splat(lo)) | (a == lanes::splat(0.0))) & (a <= lanes::splat(hi));
-    }
-
     Pair oc_[3];
     std::array<double, 3> d_;
     Pair r2_;
