@@ -789,7 +789,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_general(co
 template <class R, class T>
     requires RayOrPrepared<R, T>
 [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_declined(const R& r, const Aabb<T>& b) {
-    return !valid(b) || !valid(r) ? invalid_hit<T>() : aabb_certified_general(ray_of(r), b);
+    return answer_if_valid(r, b, [&] { return aabb_certified_general(ray_of(r), b); });
 }
 
 // The certified answer in full. The prepared flag is not consulted: the straight-line

@@ -503,7 +503,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_certified_general(c
 template <class R, class T>
     requires RayOrPrepared<R, T>
 [[gnu::noinline, gnu::cold]] Hit<T> plane_certified_declined(const R& r, const Plane<T>& p) {
-    return !valid(p) || !valid(r) ? invalid_hit<T>() : plane_certified_general(ray_of(r), p);
+    return answer_if_valid(r, p, [&] { return plane_certified_general(ray_of(r), p); });
 }
 
 template <class R, class T>

@@ -187,11 +187,12 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, fa
 // declines, out of line, goes to the double-word straight-line path and the general path.
 template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_certified_checked_general(const Ray<T>& r,
                                                                                         const Sphere<T>& s) {
-    return !valid(s) || !valid(r) ? invalid_hit<T>() : sphere_certified_general(r, s);
+    return answer_if_valid(r, s, [&] { return sphere_certified_general(r, s); });
 }
 template <class T> [[gnu::noinline]] Hit<T> sphere_certified_declined(const Ray<T>& r, const Sphere<T>& s) {
-    if (!valid(s) || !valid(r)) return invalid_hit<T>();
-    return common_or_general(sphere_certified_common(r, s), [&] { return sphere_certified_general(r, s); });
+    return answer_if_valid(r, s, [&] {
+        return common_or_general(sphere_certified_common(r, s), [&] { return sphere_certified_general(r, s); });
+    });
 }
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> sphere_certified_answer(const Ray<T>& r, const Sphere<T>& s) {
     if constexpr (std::is_same_v<T, float>)
@@ -348,7 +349,7 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, co
         if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
     return common_or_fallback(sphere_conservative_common(r, p.shape), [&] {
-        return !valid(p.shape) || !valid(r) ? invalid_hit<T>() : sphere_conservative_general(r, p.shape);
+        return answer_if_valid(r, p.shape, [&] { return sphere_conservative_general(r, p.shape); });
     });
 }
 

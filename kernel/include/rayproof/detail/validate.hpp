@@ -111,4 +111,22 @@ template <class T> Hit<T> invalid_hit() {
     return h;
 }
 
+// What a straight-line path declines after vouching for its input itself: the ray r (a
+// Ray or a prepared ray, whose validity is decided already) and the shape s validated in
+// full, then answer(), which may take them as valid.
+template <class R, class S, class F> RAYPROOF_ALWAYS_INLINE auto answer_if_valid(const R& r, const S& s, F&& answer) {
+    using H = decltype(answer());
+    bool ray_ok;
+    if constexpr (requires { r.valid(); })
+        ray_ok = r.valid();
+    else
+        ray_ok = valid(r);
+    if (!valid(s) || !ray_ok) {
+        H h;
+        h.verdict = Verdict::invalid;
+        return h;
+    }
+    return answer();
+}
+
 }  // namespace rayproof::detail
