@@ -520,18 +520,18 @@ TEST(CertifiedExactStageFloat, SphereFloatPinsProveTheirCandidates) {
             };
             // t_enter above t_min: q(t_min) > 0 (else the general path answers t_min).
             if (general.t_enter != c.ray.t_min && std::isfinite(general.t_enter)) {
-                const std::optional<T> e = detail::sphere_float_pin_enter(c.ray, line, moved(general.t_enter));
-                ASSERT_TRUE(!e || same_bits(*e, general.t_enter))
-                    << where << ", t_enter candidate moved by " << k << ": pin " << *e << ", general " << general;
+                const detail::Pinned<T> e = detail::sphere_float_pin_enter(c.ray, line, moved(general.t_enter));
+                ASSERT_TRUE(!e.ok || same_bits(e.t, general.t_enter))
+                    << where << ", t_enter candidate moved by " << k << ": pin " << e.t << ", general " << general;
                 tried += k == 0 && c.generator == "general";
-                answered_exact += k == 0 && c.generator == "general" && e.has_value();
+                answered_exact += k == 0 && c.generator == "general" && e.ok;
             }
             if (general.t_exit != c.ray.t_max && std::isfinite(general.t_exit)) {
-                const std::optional<T> e = detail::sphere_float_pin_exit(c.ray, line, moved(general.t_exit));
-                ASSERT_TRUE(!e || same_bits(*e, general.t_exit))
-                    << where << ", t_exit candidate moved by " << k << ": pin " << *e << ", general " << general;
+                const detail::Pinned<T> e = detail::sphere_float_pin_exit(c.ray, line, moved(general.t_exit));
+                ASSERT_TRUE(!e.ok || same_bits(e.t, general.t_exit))
+                    << where << ", t_exit candidate moved by " << k << ": pin " << e.t << ", general " << general;
                 tried += k == 0 && c.generator == "general";
-                answered_exact += k == 0 && c.generator == "general" && e.has_value();
+                answered_exact += k == 0 && c.generator == "general" && e.ok;
             }
         }
     });
