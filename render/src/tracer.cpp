@@ -312,29 +312,30 @@ private:
 
     // The margin K of tracer.hpp for a sphere of radius r. Fast (and certified, which
     // needs none): gamma(24)·r. Conservative: gamma(105)·r, beyond the slack of the
-    // kernel's enclosure (ray_sphere.hpp, sphere_conservative_common, "Slack": Et, El,
-    // Rh), derived here for a ray o + t·d leaving the sphere: o at distance ρ = r + δ
-    // from the centre (δ >= K outside) and d pointing away from it (d·(o - c) >= 0, so
-    // the closest approach t* <= 0). In units of t, λ² + t*² = (ρ/|d|)² and the exact
-    // answer is behind o or empty. The upper end is at most T + sqrt(max(Rh² - λ'², 0)),
-    // T = t* + Et, λ' >= λ - El:
-    //   T < 0: (λ', T) is within El + Et of (λ, t*), so its norm is at least ρ/|d| - El -
-    //     Et; when that exceeds Rh, sqrt(Rh² - λ'²) < |T| and the upper end is negative.
+    // kernel's enclosure (ray_sphere.hpp, sphere_conservative_common, "Slack": Et, Rh),
+    // derived here for a ray o + t·d leaving the sphere: o at distance ρ = r + δ from the
+    // centre (δ >= K outside) and d pointing away from it (d·(o - c) >= 0, so the closest
+    // approach t* <= 0). In units of t, λ² + t*² = (ρ/|d|)² and the exact answer is behind
+    // o or empty. The upper end is at most T + sqrt(max(Rh² - λ², 0)), T = t* + Et:
+    //   T < 0: (λ, T) is within Et of (λ, t*), so its norm is at least ρ/|d| - Et; when
+    //     that exceeds Rh, sqrt(Rh² - λ²) < |T| and the upper end is negative.
     //   T >= 0: |t*| <= Et, so λ >= ρ/|d| - Et²|d|/ρ (sqrt(x² - y²) >= x - y²/x), and
-    //     λ_lo > R_hi (<= Rh), a proven miss, when ρ/|d| - El - Et²|d|/ρ > Rh.
+    //     the kernel proves a miss (D_hi < 0) when λ > Rh, so when ρ/|d| - Et²|d|/ρ > Rh.
     // In lengths (times |d|), with |Δ| = ρ, Sb~ <= (1 + 5u)|d|ρ (Cauchy-Schwarz), P~ <=
     // 2(1 + 7.1u)|d|ρ (Σ_{i != j}|Δ_i d_j| <= 2|Δ||d|) and inv <= (1 + 5.1u)/|d|²:
-    // Et·|d| <= 22.41u·ρ, El·|d| <= 52.61u·ρ, (Rh - R)·|d| <= 29.3u·r, Et²|d|²/ρ <=
-    // 503u²·ρ, and the absolute terms at most 2^-497·|d|. Both cases hold when
-    // δ(1 - 75.03u) > 104.33u·r + 2^-497·|d|, and δ >= gamma(105)·r gives δ(1 - 75.03u) >=
-    // 105u(1 + 29.9u)·r: 0.67u·r to spare, for the absolute terms (r >= 2^-440·|d|: a
-    // sphere not 2^-440 times smaller than the way to the light) and for a direction
-    // turned towards the centre by the normal's error θ (t* <= θρ/|d| adds θ²ρ to the
-    // second-order term) up to θ = 2^-27. The tracer's rays reach the kernel's interval
-    // fallback (|d|² outside [2^-400, 2^1000]) only for a light within 2^-200 of the
-    // point. A ray leaving from inside (δ inside) needs nothing: the enclosure's lower
-    // end is at most the exact entry, behind o. The other modes keep gamma(24)·r bit for
-    // bit (their goldens stay).
+    // Et·|d| <= 22.41u·ρ; 24.2u·P~²/a² <= 96.9u·(ρ/|d|)², so (sqrt(x²(1 + 2ε) + y) <= x(1
+    // + ε) + y/(2x)) (Rh - R)·|d| <= 33.01u·r + 48.5u·ρ²/r; Et²|d|²/ρ <= 503u²·ρ; the
+    // absolute terms at most 2^-497·|d|. With ρ = r + δ both cases hold when δ(1 -
+    // 119.5u) > 103.92u·r + 2^-497·|d| (the u² terms inside the 1.07u·r below), and δ >=
+    // gamma(105)·r gives δ(1 - 119.5u) >= 105u(1 - 14.6u)·r: 1.07u·r to spare, for the
+    // absolute terms (r >= 2^-440·|d|: a sphere not 2^-440 times smaller than the way to
+    // the light, 2^-497·|d| <= u·r/16) and for a direction turned towards the centre by
+    // the normal's error θ (t* <= θρ/|d| adds θ²ρ to the second-order term) up to θ =
+    // 2^-27 (θ²ρ about u·r/2). The tracer's rays reach the kernel's interval fallback
+    // (|d|² outside [2^-400, 2^1000], r below 2^-300) only for a light within 2^-200 of
+    // the point or a sphere of radius below 2^-300. A ray leaving from inside (δ inside)
+    // needs nothing: the enclosure's lower end is at most the exact entry, behind o. The
+    // other modes keep gamma(24)·r bit for bit (their goldens stay).
     static double sphere_margin(double r) {
         if constexpr (std::is_same_v<M, conservative_t>)
             return gamma_bound(105) * r;

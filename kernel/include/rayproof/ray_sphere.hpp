@@ -18,13 +18,13 @@
 //            passing at distance ~r from the centre, the verdict is uncertain within
 //            about gamma(8)·|Δ| of tangency; measured, not promised.
 //            conservative — in the pbrt-v4 manner first (sphere_conservative_common):
-//            the closest approach t* = -b/a, the radius r/|d| and the line's distance
-//            |Δ × d|/a from the centre (all in units of t) in one plain evaluation in
-//            double, each widened by a bound derived for it (at the code); the chord
-//            [t* - w, t* + w], w = sqrt((r/|d|)² - (|Δ × d|/a)²), from the widened values.
-//            Outside its range (|d|² beyond [2^-400, 2^1000] or an overflow, double
-//            input only): the same formulas as fast mode in interval arithmetic with
-//            outward rounding (in double for both scalar types): the discriminant as
+//            the closest approach t* = -b/a and the discriminant D = r²a - |Δ × d|² in
+//            one plain evaluation in double, each widened by a bound derived for it (at
+//            the code); the chord [t* - w, t* + w], w = sqrt(D)/a, from the widened
+//            values. Outside its range (|d|² beyond [2^-400, 2^1000], a radius below
+//            2^-300 or an overflow, double input only): the same formulas as fast
+//            mode in interval arithmetic with outward rounding (in double for both
+//            scalar types): the discriminant as
 //            a·(r - l)(r + l), l = |Δ - (b/a) d|, and the roots from q = -(b + sign(b)·√disc)
 //            when the sign of b is certain (the naive (-b ∓ √disc)/a otherwise). A
 //            discriminant interval reaching 0 counts as a hit: never a false miss.
@@ -231,79 +231,84 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_conservative_gener
 }
 
 // The conservative answer in the pbrt-v4 manner: one plain evaluation in double (for
-// both scalar types) of the closest approach t* = -b/a and of the two lengths, in units
-// of t, that decide the chord: R = r/|d| (the radius) and λ = l/|d| = |Δ × d|/a (the
-// distance from the centre to the line, by Lagrange's identity |Δ|²a - b² = |Δ × d|²),
-// each widened by a bound derived for it. The exact answer is [t* - w, t* + w] with w =
-// sqrt(R² - λ²) when λ <= R, else empty, so with
-//     |t*~ - t*| <= E1,  λ >= λ_lo,  R <= R_hi,  W >= sqrt(R_hi² - λ_lo²),
-// λ_lo > R_hi proves a miss, and [t*~ - (W + E1), t*~ + (W + E1)] encloses the exact
-// interval. No branch on the geometry (one on the range of the input).
+// both scalar types) of the closest approach t* = -b/a and of D = r²a - |Δ × d|², the
+// quadratic's discriminant b² - a(|Δ|² - r²) by Lagrange's identity (|Δ|²a - b² =
+// |Δ × d|²), each widened by a bound derived for it. The exact answer is [t* - w, t* + w]
+// with w = sqrt(D)/a when D >= 0, else empty, so with
+//     |t*~ - t*| <= E1,  D <= D_hi,  W >= sqrt(D_hi)/a,
+// D_hi < 0 proves a miss, and [t*~ - (W + E1), t*~ + (W + E1)] encloses the exact
+// interval. One square root, of D_hi, and one division, 1/a, side by side: no chain of
+// roots. No branch on the geometry (one on the range of the input).
 // Bounds (u = 2^-53; Δ~_j = fl(o_j - c_j) = Δ_j(1 + ε), |ε| <= u; products in the
 // subnormal range are off by at most 2^-1075 each; a~ in [2^-400, 2^1000] is checked, so
 // inv = fl(1/a~) <= 2^400 and every such absolute error, over a, stays below 2^-670):
-//   a~ = fl(Σ d_j²): |a~ - a| <= gamma(3)·a, so fl(1/a~)·(1 ± u) is 1/a within 5.1u.
+//   a~ = fl(Σ d_j²): |a~ - a| <= gamma(3)·a, so 1/a <= (1 + 4.01u)·inv and inv <=
+//     (1 + 4.02u)/a.
 //   b~ = fl(Σ d_j Δ~_j): |b~ - b| <= gamma(4)·Sb, Sb = Σ|d_j Δ_j| <= (1 + 3.1u)·Sb~ (the
 //     same sum of the |products|, rounded alike), and |b~| <= Sb~; t*~ = fl(-b~·inv):
 //     |t*~ - t*| <= |b~ - b|/a + |b~|·5.1u/a <= 9.3u·Sb~·inv + 2^-670.
 //   The upper end fl(t*~ + H), H = fl(W + E1), is at least t*~ + (W + E1)(1 - 2u) -
 //     u·|t*~| (the lower end likewise at most t*~ - (W + E1)(1 - 2u) + u·|t*~|), so the
-//     ends enclose [t* - w, t* + w] when W·(1 - 2u) >= sqrt(R_hi² - λ_lo²) and E1·(1 -
-//     2u) >= |t*~ - t*| + u·|t*~|, where |t*~| <= (1 + 2u)·Sb~·inv: E1 must cover
+//     ends enclose [t* - w, t* + w] when W·(1 - 2u) >= sqrt(D_hi)/a and E1·(1 - 2u) >=
+//     |t*~ - t*| + u·|t*~|, where |t*~| <= (1 + 2u)·Sb~·inv: E1 must cover
 //     10.31u·Sb~·inv + 2^-670. E1 = fl(12u·fl(Sb~·inv)) + 2^-600 is at least 12u·(1 -
 //     3u)·Sb~·inv + 2^-601 after its own roundings (an underflowed product costs at most
 //     2^-1075, far inside 2^-601), and 12u·(1 - 5u) > 10.31u.
-//   c~_k = fl(fl(Δ~_i d_j) - fl(Δ~_j d_i)): |c~_k - c_k| <= gamma(3)·P_k, P_k = |Δ_i d_j| +
-//     |Δ_j d_i|; with P~ the rounded sum of the six |products|, P <= (1 + 8u)·P~. n~ =
-//     fl(sqrt(ρ~)), ρ~ = fl(Σ c~_k²), is |c~| within 2.6u|c~| <= 2.7u·P~ while ρ~ >=
-//     2^-968 (checked): a square in the subnormal range is off by at most 2^-1075 <=
-//     2^-107·ρ~, which the 2.6u holds. (Below, that absolute error is not relative to
-//     |c~|: its square root, up to 2^-537, times inv, up to 2^400, is far beyond any
-//     bound here, and a tangent ray, λ = R, was declared a miss. So such a ρ~ goes to the
-//     general path, but ρ~ = 0: every c~_k² then rounds to 0, n~ = 0 <= |c~| and λ_lo = 0
-//     is a lower bound of λ whatever the error.) So ||c| - n~| <= |c -
-//     c~|_1 + 2.7u·P~ <= 5.8u·P~. λ~ = fl(n~·inv): |λ~ - λ| <= (5.8u·P~ + 5.1u·n~)·inv·
-//     (1 + 5u) + 2^-670 <= 11.2u·P~·inv + 2^-670 (n~ <= (1 + 3u)·P~). λ_lo = fl(λ~ - eλ)
-//     is at most λ when eλ >= (λ~ - λ) + u·λ~ (the rounding of the difference when it is
-//     positive; a negative one rounds to at most 0 <= λ), and u·λ~ <= 1.01u·P~·inv: eλ
-//     must cover 12.21u·P~·inv + 2^-670. eλ = fl(14u·fl(P~·inv)) + 2^-600 is at least
-//     14u·(1 - 4u)·P~·inv + 2^-601 > that.
-//   R~ = fl(r·fl(sqrt(inv))): within (0.5 + 1 + 1 + 1.6)u = 4.1u of R (the roundings of
-//     inv, of the square root and of the product, and a~'s error halved), plus 2^-1075
-//     for a product in the subnormal range (r subnormal); R_hi = fl(fl(R~·(1 + 8u)) +
-//     2^-600) >= R, as (1 - 4.1u)(1 + 8u)(1 - 2u) > 1 and 2^-600·(1 - u) > 2^-1075.
-//   W = fl(fl(sqrt(fl(fl(R_hi - λ_lo')·fl(R_hi + λ_lo'))))·(1 + 8u)) + 2^-500, λ_lo' =
-//     max(λ_lo, 0) (a smaller λ_lo' only widens): the rounded radicand (three roundings)
-//     and root (one more) are at least (1 - 2.6u)·sqrt(R_hi² - λ_lo'²), less 2^-537 for
-//     an underflowed radicand (at most 2^-1075 off); the factor and the sum round twice
-//     more, and (1 - 2.6u)(1 + 8u)(1 - 2u)(1 - 2u) > 1, 2^-500·(1 - 3u) > 2^-537.
+//   r²a: ra~ = fl(fl(r·r)·a~). With r = 0 or r >= 2^-300 (checked), r·r >= 2^-600 and
+//     ra~ >= 2^-1000 are normal, so ra~ = r²a(1 + θ_5) (a~'s three roundings, two more),
+//     and r²a <= (1 + 5.01u)·ra~, ra~ <= (1 + 5.01u)·r²a.
+//   |Δ × d|²: c~_k = fl(fl(Δ~_i d_j) - fl(Δ~_j d_i)) is c_k within gamma(3)·P_k + 2^-1073,
+//     P_k = |Δ_i d_j| + |Δ_j d_i|; P = Σ P_k <= (1 + 8u)·P~, P~ the rounded sum of the six
+//     |products|. ρ~ = fl(Σ fl(c~_k²)) is 0 or at least 2^-968 (checked; a ρ~ in between
+//     goes to the general path). When ρ~ = 0, |c|² >= 0 = ρ~. Otherwise some |c~_k| >=
+//     2^-486, so P >= 2^-487 and the 2^-1073 is below 2^-586·P: Σ|c~_k² - c_k²| =
+//     Σ|c~_k - c_k|·|c~_k + c_k| <= 6.01u·P² (|c_k| <= P_k), and |ρ~ - Σ c~_k²| <=
+//     gamma(3)·Σ c~_k² + 3·2^-1075 <= 3.02u·P² (a subnormal square is off by at most
+//     2^-1075, below 2^-100·P²). So |ρ~ - |c|²| <= 9.04u·P~², and ρ~ <= (1 + 26.1u)·P~².
+//   disc = fl(ra~ - ρ~): ra~ - ρ~ <= disc + u|disc| (no underflow in a difference), and
+//     u|disc| <= u(1 + u)(ra~ + ρ~) <= 1.01u·(ra~ + P~²). Hence
+//       D = r²a - |c|² <= disc + 6.02u·ra~ + 10.05u·P~² <= disc + 10.05u·(ra~ + P~²).
+//   e_D = fl(14u·fl(ra~ + fl(P~·P~))): three roundings down by at most (1 - u) each (P~²
+//     >= 2^-974 is normal when ρ~ > 0, and the P~² term is needed only then) and an
+//     underflow of at most 2^-1075 in the product, below 2^-25 of it, as ra~ + P~² >=
+//     2^-1000 whenever r > 0 or ρ~ > 0 (with both 0, D = -|c|² <= 0 = disc needs no
+//     bound): e_D >= 13.99u·(ra~ + P~²). D_hi = fl(disc + e_D) loses at most u|D_hi| <=
+//     1.01u·(ra~ + P~²) to its rounding, so D_hi >= disc + 12.98u·(ra~ + P~²) >= D. A
+//     D_hi that overflows to +inf is still >= D.
+//   W = fl(fl(s·inv)·k) + 2^-500, s = fl(sqrt(max(D_hi, 0))), k = 1 + 12u (exact):
+//     sqrt(D) <= s/(1 - u) and 1/a <= (1 + 4.01u)·inv, so sqrt(D)/a <= (1 + 6.02u)·(p +
+//     2^-1075), p = fl(s·inv) (its underflow at most 2^-1075); and W·(1 - 2u) >= p·k(1 -
+//     u)²(1 - 2u) + 2^-501 >= (1 + 7.99u)·p + 2^-501, which covers it.
 // Contraction (detail/eft.hpp): the bounds are class C1 (a fused product-sum has one
 // rounding fewer than counted, and the |products| summed for Sb~ and P~ are the rounded
 // ones, within u of the exact ones' magnitudes, which the factors above allow); the
-// products are nonetheless rounded() (class C3), because the batch form and the single
-// query must give the same bits wherever the compiler inlines them.
-// Range: every finite float input passes (|Δ|, |d|, r <= 2^129, a >= 2^-298, and ρ~
-// is 0 or at least 2^-596: Δ~ and d are multiples of 2^-149, so each c~_k is a multiple
-// of 2^-298). For double, a~ outside [2^-400, 2^1000] (|d| tiny or huge), ρ~ in (0,
-// 2^-968) (a tiny cross product) or any of E1, eλ, λ~, R~ not finite (an overflow) goes
+// products are nonetheless rounded() (class C3), so that the answer has the same bits
+// wherever the compiler inlines the query (a batch loop or a single call).
+// Range: every finite float input passes (|Δ|, |d|, r <= 2^129, a >= 2^-298, r = 0 or
+// r >= 2^-149, ρ~ is 0 or at least 2^-596: Δ~ and d are multiples of 2^-149, so each
+// c~_k is a multiple of 2^-298, and nothing overflows: ra~ <= 2^516, P~² <= 2^520). For
+// double, a~ outside [2^-400, 2^1000] (|d| tiny or huge), a radius in (0, 2^-300), ρ~ in
+// (0, 2^-968) (a tiny cross product) or any of E1, e_D, ρ~ not finite (an overflow) goes
 // to sphere_conservative_general, out of line.
 // Slack (what a caller spawning rays off the sphere must stay beyond; the render
-// tracer's conservative spawn offset, tracer.cpp, derives its margin from these): the
-// upper end is at most t* + Et + sqrt(max(Rh² - λ_lo'², 0)) and λ - λ_lo' <= El, with
+// tracer's conservative spawn offset, tracer.cpp, derives its margin from these): in
+// units of t, with R = r/|d| and λ = |Δ × d|/a (the line's distance from the centre over
+// |d|), the upper end is at most t* + Et + sqrt(max(Rh² - λ², 0)), with
 //     Et = 22.4u·Sb~·inv + 2^-498 (9.3u + E1's 12.01u + the ends' 1.1u, and W's 2^-500),
-//     Rh = (1 + 14.9u)·R_hi <= (1 + 29.3u)·R + 2^-598 (W's roundings and factor, and the
-//          end's (1 + 2.1u), folded into the radius: (1 + k)·sqrt(x² - y²) <=
-//          sqrt(((1 + k)x)² - y²)),
-//     El = 26.3u·P~·inv + 2^-598 (11.2u + eλ's 14.01u + 1.01u);
-// the lower end likewise at least t* - Et - sqrt(max(Rh² - λ_lo'², 0)).
+//     Rh² = (1 + 22.9u)²·(R²(1 + 20.2u) + 24.2u·P~²/a²)
+// (D_hi <= (1 + u)(D + 20.03u·r²a + 24.06u·P~²) from the bounds above taken the other
+// way, and W <= (1 + 20.1u)·sqrt(D_hi)/a + 2^-500(1 + u), the end's rounding (1 + 2.1u)
+// folded in: (1 + k)·sqrt(x - y) <= sqrt((1 + k)²x - y)); and λ > Rh implies D_hi < 0, a
+// proven miss. The lower end likewise at least t* - Et - sqrt(max(Rh² - λ², 0)).
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ray<T>& r, const Sphere<T>& s) {
-    constexpr double u = unit_roundoff<double>, c_t = 12 * u, c_l = 14 * u, up = 1 + 8 * u;
+    constexpr double u = unit_roundoff<double>, c_t = 12 * u, c_d = 14 * u, k = 1 + 12 * u;
+    static_assert(k - 1 == 12 * u);
     // Every product that a sum or difference takes goes through rounded(), so that no
     // compiler fuses it: the bounds hold fused or not (class C1), and rounded() makes the
     // answer the same bits wherever the query is inlined (a batch loop or a single call).
     const auto mul = [](double x, double y) RAYPROOF_INLINE_LAMBDA { return rounded(x * y); };
-    const double d0 = r.direction[0], d1 = r.direction[1], d2 = r.direction[2];
+    const double d0 = r.direction[0], d1 = r.direction[1], d2 = r.direction[2], rad = s.radius;
     const double e0 = double(r.origin[0]) - double(s.center[0]), e1 = double(r.origin[1]) - double(s.center[1]),
                  e2 = double(r.origin[2]) - double(s.center[2]);
     const double a = (mul(d0, d0) + mul(d1, d1)) + mul(d2, d2);
@@ -312,31 +317,35 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     const double x0 = mul(e1, d2), x1 = mul(e2, d1), y0 = mul(e2, d0), y1 = mul(e0, d2), z0 = mul(e0, d1), z1 = mul(e1, d0);
     const double cx = x0 - x1, cy = y0 - y1, cz = z0 - z1;
     const double pm = ((std::abs(x0) + std::abs(x1)) + (std::abs(y0) + std::abs(y1))) + (std::abs(z0) + std::abs(z1));
-    const double rad = (mul(cx, cx) + mul(cy, cy)) + mul(cz, cz), n = std::sqrt(rad);
+    const double rho = (mul(cx, cx) + mul(cy, cy)) + mul(cz, cz);
+    const double ra = mul(mul(rad, rad), a);
+    const double disc = ra - rho;
     const double inv = 1 / a;
-    const double ts = mul(-b, inv), lam = mul(n, inv), rr = mul(double(s.radius), std::sqrt(inv));
-    const double e_t = mul(c_t, sb * inv) + 0x1p-600, e_l = mul(c_l, pm * inv) + 0x1p-600;
-    // rad, a sum of squares, is +0, positive or NaN: its bits less one are below those of
-    // 2^-968 less one exactly when 0 < rad < 2^-968 (one integer comparison; a NaN passes
-    // here and fails the finiteness test below).
-    constexpr std::uint64_t rad_floor = std::bit_cast<std::uint64_t>(0x1p-968) - 1;
+    const double ts = mul(-b, inv);
+    const double e_t = mul(c_t, sb * inv) + 0x1p-600, e_d = mul(c_d, ra + mul(pm, pm));
+    const double d_hi = disc + e_d;
+    // rho, a sum of squares, is +0, positive or NaN: its bits less one are below those of
+    // 2^-968 less one exactly when 0 < rho < 2^-968 (one integer comparison; a NaN passes
+    // here and fails the finiteness test below). Likewise r = 0 or r >= 2^-300 (a
+    // negative or NaN radius passes here and fails below).
+    constexpr std::uint64_t rho_floor = std::bit_cast<std::uint64_t>(0x1p-968) - 1,
+                            rad_floor = std::bit_cast<std::uint64_t>(0x1p-300) - 1;
     // The same test vouches for the input (the query checks no validity before it): a~ in
     // [2^-400, 2^1000] means d finite and nonzero; a finite e_t means every Δ~_j = fl(o_j -
     // c_j) finite (a NaN or infinite one makes its |d_j Δ~_j| NaN or infinite, 0·inf
-    // being NaN), hence o and c finite (inf - x is infinite, inf - inf NaN); with r >= 0
-    // (false for NaN and -inf) a finite rr means a finite radius; and the range rules
-    // are valid_range's. What it declines is validated in full (query, below).
-    const bool ok = int(a >= 0x1p-400) & int(a <= 0x1p1000) & int(std::bit_cast<std::uint64_t>(rad) - 1 >= rad_floor) &
-                    int(e_t + e_l + lam + rr < inf<double>) & int(s.radius >= 0) & int(valid_range(r));
+    // being NaN), hence o and c finite (inf - x is infinite, inf - inf NaN); a finite e_d
+    // means a finite ra~ (a > 0), hence a finite radius; r >= 0 (false for NaN and -inf)
+    // and valid_range do the rest. What it declines is validated in full (query, below).
+    const bool ok = int(a >= 0x1p-400) & int(a <= 0x1p1000) & int(std::bit_cast<std::uint64_t>(rho) - 1 >= rho_floor) &
+                    int(std::bit_cast<std::uint64_t>(rad) - 1 >= rad_floor) & int(e_t + e_d + rho < inf<double>) &
+                    int(s.radius >= 0) & int(valid_range(r));
     if (!ok) [[unlikely]]
         return std::nullopt;
-    const double lam_lo = lam - e_l, r_hi = mul(rr, up) + 0x1p-600;
     // pick rather than ternaries: a jump on these comparisons is a coin toss.
-    const double l0 = pick(lam_lo > 0, lam_lo, 0.0), gap = r_hi - l0;
-    const double w = mul(std::sqrt(pick(gap > 0, gap, 0.0) * (r_hi + l0)), up) + 0x1p-500;
+    const double w = mul(mul(std::sqrt(pick(d_hi > 0, d_hi, 0.0)), inv), k) + 0x1p-500;
     const double half = w + e_t, lo = ts - half, hi = ts + half, t_min = double(r.t_min), t_max = double(r.t_max);
     const double enter = pick(lo > t_min, lo, t_min), exit = pick(hi < t_max, hi, t_max);
-    return hit_when(bool(int(lam_lo <= r_hi) & int(enter <= exit)), round_down_to<T>(enter), round_up_to<T>(exit));
+    return hit_when(bool(int(d_hi >= 0) & int(enter <= exit)), round_down_to<T>(enter), round_up_to<T>(exit));
 }
 
 template <class R, class T>
