@@ -165,3 +165,67 @@ TYPED_TEST(Rounding, OutwardRoundingIsTheNeighbourTowardTheEnd) {
         }
     }
 }
+
+// outward_to(lo, hi, t_min, t_max), the conservative answers' ends: for any enclosure
+// [lo, hi] (lo not +inf, hi not -inf) and range t_min <= t_max (floats of T, t_min not
+// +inf, t_max not -inf), the ends lie in the range, hold [lo, hi] clamped to it, and
+// are in order whenever that clamped interval is not empty. For T = double they are the
+// clamped values themselves; for float at most three floats wider than the closest
+// ones (round_down_to / round_up_to of the clamped values): the shift 2^-23|x| is one to
+// two float steps, and near the subnormal range its 2^-149 is one step more.
+TYPED_TEST(Rounding, OutwardEndsEncloseTheClampedInterval) {
+    using T = TypeParam;
+    using L = std::numeric_limits<T>;
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::mt19937_64 rng = rng_for_current_test(base_seed());
+    std::vector<double> ends;
+    for (const double x : specials<double>())
+        if (!std::isnan(x)) ends.push_back(x);
+    for (const float f : specials<float>())
+        if (!std::isnan(f)) {
+            ends.push_back(double(f));
+            ends.push_back(std::nextafter(double(f), 1e300));
+            ends.push_back(std::nextafter(double(f), -1e300));
+        }
+    std::vector<T> limits;
+    for (const T t : specials<T>())
+        if (!std::isnan(t)) limits.push_back(t);
+    const auto end = [&] { return rng() % 4 == 0 ? ends[rng() % ends.size()] : random_double_for_float(rng); };
+    const auto limit = [&]() -> T {
+        if (rng() % 3 == 0) return limits[rng() % limits.size()];
+        return std::is_same_v<T, float> ? T(random_double_for_float(rng)) : random_value<T>(rng);
+    };
+    const auto three_down = [](T x) { return x == -L::infinity() ? x : step_down(step_down(step_down(x))); };
+    const auto three_up = [](T x) { return x == L::infinity() ? x : step_up(step_up(step_up(x))); };
+    int nonempty = 0;
+    for (int i = 0; i < 400000; ++i) {
+        double lo = end(), hi = end();
+        if (hi < lo) std::swap(lo, hi);
+        if (rng() % 8 == 0) hi = lo;
+        T t_min = limit(), t_max = limit();
+        if (t_max < t_min) std::swap(t_min, t_max);
+        if (lo == L::infinity() || hi == -L::infinity() || t_min == L::infinity() || t_max == -L::infinity())
+            continue;
+        char where[160];
+        std::snprintf(where, sizeof where, "[%a, %a] in [%a, %a]", lo, hi, double(t_min), double(t_max));
+        SCOPED_TRACE(where);
+        const OutwardEnds<T> e = outward_to<T>(lo, hi, t_min, t_max);
+        const double clo = lo > double(t_min) ? lo : double(t_min), chi = hi < double(t_max) ? hi : double(t_max);
+        ASSERT_GE(e.lo, t_min);
+        ASSERT_LE(e.hi, t_max);
+        ASSERT_LE(double(e.lo), clo);
+        ASSERT_GE(double(e.hi), chi);
+        if (clo <= chi) {
+            ++nonempty;
+            ASSERT_LE(e.lo, e.hi);
+        }
+        if constexpr (std::is_same_v<T, double>) {
+            ASSERT_TRUE(same_bits(e.lo, clo)) << hex(e.lo);
+            ASSERT_TRUE(same_bits(e.hi, chi)) << hex(e.hi);
+        } else {
+            ASSERT_GE(e.lo, three_down(round_down_to<T>(clo))) << hex(e.lo);
+            ASSERT_LE(e.hi, three_up(round_up_to<T>(chi))) << hex(e.hi);
+        }
+    }
+    EXPECT_GT(nonempty, 100000);
+}

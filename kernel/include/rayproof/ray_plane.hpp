@@ -340,7 +340,7 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_conservative_genera
 
 // The conservative answer in the pbrt-v4 manner: t~ = fl(N~·fl(1/D~)) from one plain
 // evaluation of N = offset - n·o and D = n·d in double, widened by a bound E derived
-// for it, then clamped to [t_min, t_max] and rounded outward to T.
+// for it, then rounded outward to T and clamped to [t_min, t_max] (outward_to).
 // N~ and D~ are computed as in plane_verdict_common (-N~ = ((-offset + p_0) + p_1) + p_2,
 // D~ = (p_0' + p_1') + p_2', p_j = fl(n_j o_j), p_j' = fl(n_j d_j)), with the bounds
 // e = fl(fl(K·S~) + eta), K = gamma(4), S~ the same sums of the |terms|, eta = 2^-1022:
@@ -398,9 +398,8 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray
                     int(valid_range(r));
     if (!ok) [[unlikely]]
         return std::nullopt;
-    const double lo = t - bound, hi = t + bound, t_min = double(r.t_min), t_max = double(r.t_max);
-    const double enter = rounded(lo > t_min ? lo : t_min), exit = rounded(hi < t_max ? hi : t_max);
-    return hit_when(enter <= exit, round_down_to<T>(enter), round_up_to<T>(exit));
+    const OutwardEnds<T> ends = outward_to<T>(rounded(t - bound), rounded(t + bound), r.t_min, r.t_max);
+    return hit_when(ends.lo <= ends.hi, ends.lo, ends.hi);
 }
 
 template <class R, class T>

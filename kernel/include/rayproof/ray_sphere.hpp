@@ -275,10 +275,11 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_conservative_gener
 //     bound): e_D >= 13.99u·(ra~ + P~²). D_hi = fl(disc + e_D) loses at most u|D_hi| <=
 //     1.01u·(ra~ + P~²) to its rounding, so D_hi >= disc + 12.98u·(ra~ + P~²) >= D. A
 //     D_hi that overflows to +inf is still >= D.
-//   W = fl(fl(s·inv)·k) + 2^-500, s = fl(sqrt(max(D_hi, 0))), k = 1 + 12u (exact):
-//     sqrt(D) <= s/(1 - u) and 1/a <= (1 + 4.01u)·inv, so sqrt(D)/a <= (1 + 6.02u)·(p +
-//     2^-1075), p = fl(s·inv) (its underflow at most 2^-1075); and W·(1 - 2u) >= p·k(1 -
-//     u)²(1 - 2u) + 2^-501 >= (1 + 7.99u)·p + 2^-501, which covers it.
+//   W = fl(fl(s·ik) + 2^-500), s = fl(sqrt(max(D_hi, 0))), ik = fl(inv·k), k = 1 + 12u
+//     (exact; ik is ready before s): sqrt(D) <= s/(1 - u) and 1/a <= (1 + 4.01u)·inv, so
+//     sqrt(D)/a <= (1 + 5.02u)·s·inv; and W·(1 - 2u) >= (s·inv·k(1 - u)² - 2^-1075 +
+//     2^-500)(1 - u)(1 - 2u) >= (1 + 6.9u)·s·inv + 2^-501 (an underflowed product is off
+//     by at most 2^-1075), which covers it.
 // Contraction (detail/eft.hpp): the bounds are class C1 (a fused product-sum has one
 // rounding fewer than counted, and the |products| summed for Sb~ and P~ are the rounded
 // ones, within u of the exact ones' magnitudes, which the factors above allow); the
@@ -320,7 +321,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     const double rho = (mul(cx, cx) + mul(cy, cy)) + mul(cz, cz);
     const double ra = mul(mul(rad, rad), a);
     const double disc = ra - rho;
-    const double inv = 1 / a;
+    const double inv = 1 / a, ik = mul(inv, k);
     const double ts = mul(-b, inv);
     const double e_t = mul(c_t, sb * inv) + 0x1p-600, e_d = mul(c_d, ra + mul(pm, pm));
     const double d_hi = disc + e_d;
@@ -342,10 +343,10 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     if (!ok) [[unlikely]]
         return std::nullopt;
     // pick rather than ternaries: a jump on these comparisons is a coin toss.
-    const double w = mul(mul(std::sqrt(pick(d_hi > 0, d_hi, 0.0)), inv), k) + 0x1p-500;
-    const double half = w + e_t, lo = ts - half, hi = ts + half, t_min = double(r.t_min), t_max = double(r.t_max);
-    const double enter = pick(lo > t_min, lo, t_min), exit = pick(hi < t_max, hi, t_max);
-    return hit_when(bool(int(d_hi >= 0) & int(enter <= exit)), round_down_to<T>(enter), round_up_to<T>(exit));
+    const double w = mul(std::sqrt(pick(d_hi > 0, d_hi, 0.0)), ik) + 0x1p-500;
+    const double half = w + e_t;
+    const OutwardEnds<T> ends = outward_to<T>(ts - half, ts + half, r.t_min, r.t_max);
+    return hit_when(bool(int(d_hi >= 0) & int(ends.lo <= ends.hi)), ends.lo, ends.hi);
 }
 
 template <class R, class T>

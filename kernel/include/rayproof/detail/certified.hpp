@@ -211,6 +211,41 @@ template <class T> RAYPROOF_ALWAYS_INLINE T round_up_to(double x) {
     }
 }
 
+// A conservative enclosure's ends as T: [lo, hi] (doubles, holding the exact interval)
+// rounded outward and clamped to [t_min, t_max]. When the exact interval meets [t_min,
+// t_max] (an exact hit), the clamped ends hold that meeting, so lo' <= hi': the callers
+// take that as their verdict. Not always the closest floats, as round_down_to and
+// round_up_to give, but at most three floats wider (the shift below is one to two float
+// steps, and its 2^-149 one more near the subnormal range): the conservative mode
+// promises an enclosure, and this costs about half their instructions (no integer
+// step), with the clamps in T after the rounding.
+// The clamped ends themselves for T = double. For float, the lower end is y =
+// fl_f(fl(lo - m)), m = fl(fl(|lo|·2^-23) + 2^-149) (fl_f: to the nearest float), then
+// min(y, max float), then max with t_min: with u = 2^-53, m >= (1 - u)(2^-23|lo| +
+// 2^-149) - 2^-1075 (the product exact but for an underflow), w = fl(lo - m) <= lo - m
+// + u|w|, |w| <= (1 + 2^-22)|lo| + 2^-148, and rounding w to the nearest float moves it
+// by at most half a float step, max(2^-24|w|, 2^-150). So y <= lo - (2^-23 - 2^-24(1 +
+// 2^-21))|lo| - (2^-149 - 2^-150 - 2^-170) < lo: more than a float step covers every
+// rounding. y is +inf only for w above the largest float by half a step, so lo above it
+// and the largest float below lo; lo = -inf gives -inf. The upper end likewise,
+// mirrored. Contraction (detail/eft.hpp): class C1 (a fused |lo|·2^-23 + 2^-149 has one
+// rounding fewer).
+template <class T> struct OutwardEnds {
+    T lo, hi;
+};
+template <class T> RAYPROOF_ALWAYS_INLINE OutwardEnds<T> outward_to(double lo, double hi, T t_min, T t_max) {
+    if constexpr (std::is_same_v<T, double>) {
+        return {lo > t_min ? lo : t_min, hi < t_max ? hi : t_max};  // maxsd, minsd
+    } else {
+        static_assert(std::is_same_v<T, float>);
+        constexpr float top = std::numeric_limits<float>::max();
+        const float down = narrow<float>(lo - (std::abs(lo) * 0x1p-23 + 0x1p-149));
+        const float up = narrow<float>(hi + (std::abs(hi) * 0x1p-23 + 0x1p-149));
+        const float d = down < top ? down : top, u = up > -top ? up : -top;
+        return {d > t_min ? d : t_min, u < t_max ? u : t_max};
+    }
+}
+
 // [t_enter, t_exit] with its face on a hit, and on a miss Hit<T>{} (t 0, face -1), chosen
 // without a jump: on random rays hit or miss is a coin toss, and a branch on it is
 // mispredicted half the time.
