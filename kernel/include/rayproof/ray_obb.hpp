@@ -278,8 +278,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_conservative
     }
     if (!(ok & int(probe == 0))) [[unlikely]]
         return std::nullopt;
-    const OutwardEnds<T> ends = outward_to<T>(lo, hi, r.t_min, r.t_max);
-    return hit_when(ends.lo <= ends.hi, ends.lo, ends.hi, face);
+    return hit_when(lo <= hi, round_down_to<T>(lo), round_up_to<T>(hi), face);
 }
 
 template <class R, class T>

@@ -398,8 +398,10 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray
                     int(valid_range(r));
     if (!ok) [[unlikely]]
         return std::nullopt;
-    const OutwardEnds<T> ends = outward_to<T>(rounded(t - bound), rounded(t + bound), r.t_min, r.t_max);
-    return hit_when(ends.lo <= ends.hi, ends.lo, ends.hi);
+    const double lo = rounded(t - bound), hi = rounded(t + bound);
+    const OutwardEnds<T> ends = outward_to<T>(lo, hi, r.t_min, r.t_max);
+    // The verdict on the enclosure itself, in double (as ray_sphere.hpp's).
+    return hit_when(bool(int(lo <= double(r.t_max)) & int(hi >= double(r.t_min))), ends.lo, ends.hi);
 }
 
 template <class R, class T>

@@ -213,12 +213,14 @@ template <class T> RAYPROOF_ALWAYS_INLINE T round_up_to(double x) {
 
 // A conservative enclosure's ends as T: [lo, hi] (doubles, holding the exact interval)
 // rounded outward and clamped to [t_min, t_max]. When the exact interval meets [t_min,
-// t_max] (an exact hit), the clamped ends hold that meeting, so lo' <= hi': the callers
-// take that as their verdict. Not always the closest floats, as round_down_to and
-// round_up_to give, but at most three floats wider (the shift below is one to two float
-// steps, and its 2^-149 one more near the subnormal range): the conservative mode
-// promises an enclosure, and this costs about half their instructions (no integer
-// step), with the clamps in T after the rounding.
+// t_max] (an exact hit), the clamped ends hold that meeting, so lo' <= hi'. The callers
+// decide the verdict on [lo, hi] itself: the order of the widened float ends would also
+// take enclosures that miss the range by less than the widening (more false hits,
+// measured). Not always the closest floats, as round_down_to and round_up_to give, but
+// at most three floats wider (the shift below is one to two float steps, and its 2^-149
+// one more near the subnormal range): the conservative mode promises an enclosure, and
+// this costs about half their instructions (no integer step), with the clamps in T
+// after the rounding.
 // The clamped ends themselves for T = double. For float, the lower end is y =
 // fl_f(fl(lo - m)), m = fl(fl(|lo|·2^-23) + 2^-149) (fl_f: to the nearest float), then
 // min(y, max float), then max with t_min: with u = 2^-53, m >= (1 - u)(2^-23|lo| +
