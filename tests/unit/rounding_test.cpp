@@ -169,7 +169,8 @@ TYPED_TEST(Rounding, OutwardRoundingIsTheNeighbourTowardTheEnd) {
 // outward_to(lo, hi, t_min, t_max), the conservative answers' ends: for any enclosure
 // [lo, hi] (lo not +inf, hi not -inf) and range t_min <= t_max (floats of T, t_min not
 // +inf, t_max not -inf), the ends lie in the range, hold [lo, hi] clamped to it, and
-// are in order whenever that clamped interval is not empty. For T = double they are the
+// are in order whenever that clamped interval is not empty, which is exactly when meets
+// (the verdict the callers answer) is true. For T = double they are the
 // clamped values themselves; for float at most three floats wider than the closest
 // ones (round_down_to / round_up_to of the clamped values): the shift 2^-23|x| is one to
 // two float steps, and near the subnormal range its 2^-149 is one step more.
@@ -215,6 +216,9 @@ TYPED_TEST(Rounding, OutwardEndsEncloseTheClampedInterval) {
         ASSERT_LE(e.hi, t_max);
         ASSERT_LE(double(e.lo), clo);
         ASSERT_GE(double(e.hi), chi);
+        // The verdict: [lo, hi] meets [t_min, t_max] exactly when the clamped interval is
+        // not empty (t_min <= t_max here).
+        ASSERT_EQ(e.meets, clo <= chi);
         if (clo <= chi) {
             ++nonempty;
             ASSERT_LE(e.lo, e.hi);

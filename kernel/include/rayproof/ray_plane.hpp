@@ -400,8 +400,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray
         return std::nullopt;
     const double lo = rounded(t - bound), hi = rounded(t + bound);
     const OutwardEnds<T> ends = outward_to<T>(lo, hi, r.t_min, r.t_max);
-    // The verdict on the enclosure itself, in double (as ray_sphere.hpp's).
-    return hit_when(bool(int(lo <= double(r.t_max)) & int(hi >= double(r.t_min))), ends.lo, ends.hi);
+    return hit_when(ends.meets, ends.lo, ends.hi);
 }
 
 template <class R, class T>

@@ -347,10 +347,8 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     const double half = w + e_t;
     const double lo = ts - half, hi = ts + half;
     const OutwardEnds<T> ends = outward_to<T>(lo, hi, r.t_min, r.t_max);
-    // The verdict on the enclosure itself, in double: the rounded ends' order would also
-    // take cases whose ends cross by less than their widening (more false hits, measured).
-    const bool meets = int(lo <= double(r.t_max)) & int(hi >= double(r.t_min)) & int(lo <= hi);
-    return hit_when(bool(int(d_hi >= 0) & int(meets)), ends.lo, ends.hi);
+    // The verdict on the enclosure itself (outward_to's meets), never on the rounded ends.
+    return hit_when(bool(int(d_hi >= 0) & int(ends.meets)), ends.lo, ends.hi);
 }
 
 template <class R, class T>

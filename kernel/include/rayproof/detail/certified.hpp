@@ -212,11 +212,13 @@ template <class T> RAYPROOF_ALWAYS_INLINE T round_up_to(double x) {
 }
 
 // A conservative enclosure's ends as T: [lo, hi] (doubles, holding the exact interval)
-// rounded outward and clamped to [t_min, t_max]. When the exact interval meets [t_min,
-// t_max] (an exact hit), the clamped ends hold that meeting, so lo' <= hi'. The callers
-// decide the verdict on [lo, hi] itself: the order of the widened float ends would also
-// take enclosures that miss the range by less than the widening (more false hits,
-// measured). Not always the closest floats, as round_down_to and round_up_to give, but
+// rounded outward and clamped to [t_min, t_max], and whether [lo, hi] meets [t_min,
+// t_max] (lo <= t_max, hi >= t_min, lo <= hi; false for a NaN end), the verdict the
+// callers answer. When the exact interval meets [t_min, t_max] (an exact hit), meets is
+// true and the clamped ends hold that meeting, so lo' <= hi'. The verdict is decided on
+// [lo, hi] itself, never on the order of the widened float ends, which would also take
+// enclosures that miss the range by less than the widening (more false hits, measured).
+// Not always the closest floats, as round_down_to and round_up_to give, but
 // at most three floats wider (the shift below is one to two float steps, and its 2^-149
 // one more near the subnormal range): the conservative mode promises an enclosure, and
 // this costs about half their instructions (no integer step), with the clamps in T
@@ -234,17 +236,19 @@ template <class T> RAYPROOF_ALWAYS_INLINE T round_up_to(double x) {
 // rounding fewer).
 template <class T> struct OutwardEnds {
     T lo, hi;
+    bool meets;
 };
 template <class T> RAYPROOF_ALWAYS_INLINE OutwardEnds<T> outward_to(double lo, double hi, T t_min, T t_max) {
+    const bool meets = bool(int(lo <= double(t_max)) & int(hi >= double(t_min)) & int(lo <= hi));
     if constexpr (std::is_same_v<T, double>) {
-        return {lo > t_min ? lo : t_min, hi < t_max ? hi : t_max};  // maxsd, minsd
+        return {lo > t_min ? lo : t_min, hi < t_max ? hi : t_max, meets};  // maxsd, minsd
     } else {
         static_assert(std::is_same_v<T, float>);
         constexpr float top = std::numeric_limits<float>::max();
         const float down = narrow<float>(lo - (std::abs(lo) * 0x1p-23 + 0x1p-149));
         const float up = narrow<float>(hi + (std::abs(hi) * 0x1p-23 + 0x1p-149));
         const float d = down < top ? down : top, u = up > -top ? up : -top;
-        return {d > t_min ? d : t_min, u < t_max ? u : t_max};
+        return {d > t_min ? d : t_min, u < t_max ? u : t_max, meets};
     }
 }
 

@@ -121,11 +121,7 @@ template <class R, class S, class F> RAYPROOF_ALWAYS_INLINE auto answer_if_valid
         ray_ok = r.valid();
     else
         ray_ok = valid(r);
-    if (!valid(s) || !ray_ok) {
-        H h;
-        h.verdict = Verdict::invalid;
-        return h;
-    }
+    if (!valid(s) || !ray_ok) return invalid_hit<decltype(H::t_enter)>();
     return answer();
 }
 
