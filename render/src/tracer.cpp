@@ -321,20 +321,25 @@ private:
     //     that exceeds Rh, sqrt(Rh² - λ²) < |T| and the upper end is negative.
     //   T >= 0: |t*| <= Et, so λ >= ρ/|d| - Et²|d|/ρ (sqrt(x² - y²) >= x - y²/x), and
     //     the kernel proves a miss (D_hi < 0) when λ > Rh, so when ρ/|d| - Et²|d|/ρ > Rh.
-    // In lengths (times |d|), with |Δ| = ρ, Sb~ <= (1 + 5u)|d|ρ (Cauchy-Schwarz), P~ <=
-    // 2(1 + 7.1u)|d|ρ (Σ_{i != j}|Δ_i d_j| <= 2|Δ||d|) and inv <= (1 + 5.1u)/|d|²:
-    // Et·|d| <= 22.41u·ρ; 24.2u·P~²/a² <= 96.9u·(ρ/|d|)², so (sqrt(x²(1 + 2ε) + y) <= x(1
-    // + ε) + y/(2x)) (Rh - R)·|d| <= 33.01u·r + 48.5u·ρ²/r; Et²|d|²/ρ <= 503u²·ρ; the
-    // absolute terms at most 2^-497·|d|. With ρ = r + δ both cases hold when δ(1 -
-    // 119.5u) > 103.92u·r + 2^-497·|d| (the u² terms inside the 1.07u·r below), and δ >=
-    // gamma(105)·r gives δ(1 - 119.5u) >= 105u(1 - 14.6u)·r: 1.07u·r to spare, for the
-    // absolute terms (r >= 2^-440·|d|: a sphere not 2^-440 times smaller than the way to
-    // the light, 2^-497·|d| <= u·r/16) and for a direction turned towards the centre by
+    // In lengths (times |d|), with |Δ| = ρ, Sb~ <= (1 + 5u)|d|ρ (Cauchy-Schwarz), M = P~/a
+    // <= 2(1 + 7.1u)ρ/|d| (Σ_{i != j}|Δ_i d_j| <= 2|Δ||d|), λ <= ρ/|d| (the line passes no
+    // farther from the centre than o) and inv <= (1 + 5.1u)/|d|²: Et·|d| <= 22.41u·ρ;
+    // 14.1u·M·λ + 85u²·M² <= 28.3u·(ρ/|d|)², so (sqrt(x²(1 + 2ε) + y) <= x(1 + ε) +
+    // y/(2x), (1 + 22.9u)²(1 + 14.1u) <= 1 + 2·30u) (Rh - R)·|d| <= 30u·r + 14.2u·ρ²/r;
+    // Et²|d|²/ρ <= 503u²·ρ; the absolute terms at most 2^-497·|d|. With ρ = r + δ and δ
+    // <= r (ρ²/r <= r + 3δ) both cases hold when δ(1 - 65.1u) > 66.61u·r + 2^-497·|d| (the
+    // u² terms inside the spare below), and δ >= gamma(105)·r gives δ(1 - 65.1u) >=
+    // 104.99u·r: 38.3u·r to spare (the margin was derived for the kernel's earlier, looser
+    // bound and is kept, so that conservative renders stay as they were), for the absolute
+    // terms (r >= 2^-440·|d|: a sphere not 2^-440 times smaller than the way to the light,
+    // 2^-497·|d| <= u·r/16) and for a direction turned towards the centre by
     // the normal's error θ (t* <= θρ/|d| adds θ²ρ to the second-order term) up to θ =
     // 2^-27 (θ²ρ about u·r/2). The tracer's rays reach the kernel's interval fallback
     // (|d|² outside [2^-400, 2^1000], r below 2^-300) only for a light within 2^-200 of
     // the point or a sphere of radius below 2^-300. A ray leaving from inside (δ inside)
-    // needs nothing: the enclosure's lower end is at most the exact entry, behind o. The
+    // needs nothing: the enclosure's lower end is at most the exact entry, behind o. An
+    // origin farther out (δ > r, when the hit point's own error exceeds r) still holds up
+    // to δ = 2^45·r: there ρ <= 2δ and 14.2u·ρ²/r <= 56.8u·δ²/r <= 0.23δ. The
     // other modes keep gamma(24)·r bit for bit (their goldens stay).
     static double sphere_margin(double r) {
         if constexpr (std::is_same_v<M, conservative_t>)

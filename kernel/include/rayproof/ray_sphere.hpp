@@ -258,23 +258,30 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_conservative_gener
 //     ra~ >= 2^-1000 are normal, so ra~ = r²a(1 + θ_5) (a~'s three roundings, two more),
 //     and r²a <= (1 + 5.01u)·ra~, ra~ <= (1 + 5.01u)·r²a.
 //   |Δ × d|²: c~_k = fl(fl(Δ~_i d_j) - fl(Δ~_j d_i)) is c_k within gamma(3)·P_k + 2^-1073,
-//     P_k = |Δ_i d_j| + |Δ_j d_i|; P = Σ P_k <= (1 + 8u)·P~, P~ the rounded sum of the six
-//     |products|. ρ~ = fl(Σ fl(c~_k²)) is 0 or at least 2^-968 (checked; a ρ~ in between
-//     goes to the general path). When ρ~ = 0, |c|² >= 0 = ρ~. Otherwise some |c~_k| >=
-//     2^-486, so P >= 2^-487 and the 2^-1073 is below 2^-586·P: Σ|c~_k² - c_k²| =
-//     Σ|c~_k - c_k|·|c~_k + c_k| <= 6.01u·P² (|c_k| <= P_k), and |ρ~ - Σ c~_k²| <=
-//     gamma(3)·Σ c~_k² + 3·2^-1075 <= 3.02u·P² (a subnormal square is off by at most
-//     2^-1075, below 2^-100·P²). So |ρ~ - |c|²| <= 9.04u·P~², and ρ~ <= (1 + 26.1u)·P~².
+//     P_k = |Δ_i d_j| + |Δ_j d_i| <= (1 + 3.01u)·P~_k, P~_k the rounded sum of its two
+//     |products|; P = Σ P_k <= (1 + 8u)·P~, P~ = fl(fl(P~_x + P~_y) + P~_z). ρ~ = fl(Σ
+//     fl(c~_k²)) is 0 or at least 2^-968 (checked; a ρ~ in between goes to the general
+//     path). When ρ~ = 0, |c|² >= 0 = ρ~. Otherwise some |c~_k| >= 2^-486, so P~ >= 2^-487,
+//     and every absolute error below (2^-1073 in a c~_k, 2^-1075 in a subnormal square or
+//     product) is under 2^-580·P~², inside the u²·P~² term. With |c~_k + c_k| <= 2|c~_k| +
+//     3.01u·P_k, Σ|c~_k² - c_k²| = Σ|c~_k - c_k|·|c~_k + c_k| <= 6.02u·Σ P_k|c~_k| +
+//     9.1u²·P², and Σ P_k|c~_k| <= (1 + 6.03u)·Q~, Q~ = fl(Σ fl(P~_k·|c~_k|)) (gamma(3),
+//     and P_k's 3.01u); |ρ~ - Σ c~_k²| <= gamma(3)·Σ c~_k² <= 3.02u·ρ~. So
+//       |ρ~ - |c|²| <= 3.02u·ρ~ + 6.06u·Q~ + 9.4u²·P~².
+//     Q~ is what makes the bound follow the chord: at grazing |c~| is about r|d|², so Q~ is
+//     about P~·r|d|², where a bound in P~² (P~ up to 2|Δ||d|) would grow with the
+//     distance |Δ| of a small sphere.
 //   disc = fl(ra~ - ρ~): ra~ - ρ~ <= disc + u|disc| (no underflow in a difference), and
-//     u|disc| <= u(1 + u)(ra~ + ρ~) <= 1.01u·(ra~ + P~²). Hence
-//       D = r²a - |c|² <= disc + 6.02u·ra~ + 10.05u·P~² <= disc + 10.05u·(ra~ + P~²).
-//   e_D = fl(14u·fl(ra~ + fl(P~·P~))): three roundings down by at most (1 - u) each (P~²
-//     >= 2^-974 is normal when ρ~ > 0, and the P~² term is needed only then) and an
-//     underflow of at most 2^-1075 in the product, below 2^-25 of it, as ra~ + P~² >=
+//     u|disc| <= u(1 + u)·max(ra~, ρ~) <= 1.01u·(ra~ + ρ~). Hence
+//       D = r²a - |c|² <= disc + 6.02u·ra~ + 4.03u·ρ~ + 6.06u·Q~ + 9.4u²·P~².
+//   e_D = fl(8u·S), S = fl(fl(ra~ + ρ~) + fl(Q~ + fl(2^-51·fl(P~·P~)))) (2^-51 = 4u): S
+//     is at least (1 - u)^4 of its exact sum (P~² >= 2^-974 and 4u·P~² are normal when ρ~
+//     > 0, and that term is needed only then; Q~ likewise), and 8u·S is normal as S >=
 //     2^-1000 whenever r > 0 or ρ~ > 0 (with both 0, D = -|c|² <= 0 = disc needs no
-//     bound): e_D >= 13.99u·(ra~ + P~²). D_hi = fl(disc + e_D) loses at most u|D_hi| <=
-//     1.01u·(ra~ + P~²) to its rounding, so D_hi >= disc + 12.98u·(ra~ + P~²) >= D. A
-//     D_hi that overflows to +inf is still >= D.
+//     bound), so e_D >= 7.99u·(ra~ + ρ~ + Q~ + 4u·P~²). D_hi = fl(disc + e_D) loses at
+//     most u(|disc| + e_D) <= 1.01u·(ra~ + ρ~) + u·e_D to its rounding, so D_hi >= disc +
+//     6.97u·(ra~ + ρ~) + 7.98u·Q~ + 31.9u²·P~² >= D. A D_hi that overflows to +inf is
+//     still >= D.
 //   W = fl(fl(s·ik) + 2^-500), s = fl(sqrt(max(D_hi, 0))), ik = fl(inv·k), k = 1 + 12u
 //     (exact; ik is ready before s): sqrt(D) <= s/(1 - u) and 1/a <= (1 + 4.01u)·inv, so
 //     sqrt(D)/a <= (1 + 5.02u)·s·inv; and W·(1 - 2u) >= (s·inv·k(1 - u)² - 2^-1075 +
@@ -293,17 +300,22 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_conservative_gener
 // to sphere_conservative_general, out of line.
 // Slack (what a caller spawning rays off the sphere must stay beyond; the render
 // tracer's conservative spawn offset, tracer.cpp, derives its margin from these): in
-// units of t, with R = r/|d| and λ = |Δ × d|/a (the line's distance from the centre over
-// |d|), the upper end is at most t* + Et + sqrt(max(Rh² - λ², 0)), with
+// units of t, with R = r/|d|, λ = |Δ × d|/a (the line's distance from the centre over
+// |d|) and M = P~/a, the upper end is at most t* + Et + sqrt(max(Rh² - λ², 0)), with
 //     Et = 22.4u·Sb~·inv + 2^-498 (9.3u + E1's 12.01u + the ends' 1.1u, and W's 2^-500),
-//     Rh² = (1 + 22.9u)²·(R²(1 + 20.2u) + 24.2u·P~²/a²)
-// (D_hi <= (1 + u)(D + 20.03u·r²a + 24.06u·P~²) from the bounds above taken the other
-// way, and W <= (1 + 20.1u)·sqrt(D_hi)/a + 2^-500(1 + u), the end's rounding (1 + 2.1u)
-// folded in: (1 + k)·sqrt(x - y) <= sqrt((1 + k)²x - y)); and λ > Rh implies D_hi < 0, a
-// proven miss. The lower end likewise at least t* - Et - sqrt(max(Rh² - λ², 0)).
+//     Rh² = (1 + 22.9u)²·(R²(1 + 14.1u) + 14.1u·M·λ + 85u²·M²)
+// (D_hi <= (1 + u)(D + 14.06u·r²a + 12.04u·ρ~ + 14.07u·Q~ + 41.5u²·P~²) from the bounds
+// above taken the other way, with ρ~ <= (1 + 3.02u)(|c| + 3.04u·P~)² and Q~ <= (1 +
+// 3.01u)·P~·(|c| + 3.04u·P~) (Cauchy-Schwarz); so D_hi/a² <= (1 + u)(R²(1 + 14.06u) -
+// λ²(1 - 12.05u) + 14.1u·M·λ + 85u²·M²); and W <= (1 + 20.1u)·sqrt(D_hi)/a + 2^-500(1 +
+// u), the end's rounding (1 + 2.1u) and the (1 + u) folded in: (1 + k)·sqrt(x - y) <=
+// sqrt((1 + k)²x - y) for y <= (1 + k)²(1 - 12.05u)λ²); and λ > Rh implies D_hi < 0, a
+// proven miss. Rh grows with λ: a caller bounds it at λ's largest value. The lower end
+// likewise at least t* - Et - sqrt(max(Rh² - λ², 0)).
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ray<T>& r, const Sphere<T>& s) {
-    constexpr double u = unit_roundoff<double>, c_t = 12 * u, c_d = 14 * u, k = 1 + 12 * u;
+    constexpr double u = unit_roundoff<double>, c_t = 12 * u, c_d = 8 * u, k = 1 + 12 * u;
+    static_assert(0x1p-51 == 4 * u);
     static_assert(k - 1 == 12 * u);
     // Every product that a sum or difference takes goes through rounded(), so that no
     // compiler fuses it: the bounds hold fused or not (class C1), and rounded() makes the
@@ -317,13 +329,15 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_conservative_common(const Ra
     const double b = (b0 + b1) + b2, sb = (std::abs(b0) + std::abs(b1)) + std::abs(b2);
     const double x0 = mul(e1, d2), x1 = mul(e2, d1), y0 = mul(e2, d0), y1 = mul(e0, d2), z0 = mul(e0, d1), z1 = mul(e1, d0);
     const double cx = x0 - x1, cy = y0 - y1, cz = z0 - z1;
-    const double pm = ((std::abs(x0) + std::abs(x1)) + (std::abs(y0) + std::abs(y1))) + (std::abs(z0) + std::abs(z1));
+    const double px = std::abs(x0) + std::abs(x1), py = std::abs(y0) + std::abs(y1), pz = std::abs(z0) + std::abs(z1);
+    const double pm = (px + py) + pz;
+    const double q = (mul(px, std::abs(cx)) + mul(py, std::abs(cy))) + mul(pz, std::abs(cz));
     const double rho = (mul(cx, cx) + mul(cy, cy)) + mul(cz, cz);
     const double ra = mul(mul(rad, rad), a);
     const double disc = ra - rho;
     const double inv = 1 / a, ik = mul(inv, k);
     const double ts = mul(-b, inv);
-    const double e_t = mul(c_t, sb * inv) + 0x1p-600, e_d = mul(c_d, ra + mul(pm, pm));
+    const double e_t = mul(c_t, sb * inv) + 0x1p-600, e_d = mul(c_d, (ra + rho) + (q + mul(0x1p-51, mul(pm, pm))));
     const double d_hi = disc + e_d;
     // rho, a sum of squares, is +0, positive or NaN: its bits less one are below those of
     // 2^-968 less one exactly when 0 < rho < 2^-968 (one integer comparison; a NaN passes
