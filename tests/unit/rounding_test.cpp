@@ -233,3 +233,62 @@ TYPED_TEST(Rounding, OutwardEndsEncloseTheClampedInterval) {
     }
     EXPECT_GT(nonempty, 100000);
 }
+
+// nearest_float(lo, hi, ok), the certified float answer from a double enclosure (the
+// plane's and the oriented box's straight-line paths): where it answers, every double in
+// [lo, hi] has the answer as its nearest float (checked against a nearest float found
+// another way: the candidate and its two neighbours by distance, ties to the even
+// significand), so it is t's nearest float for any t the enclosure holds; it answers +0
+// for zero, never an infinity, never for an enclosure that is not ok; and it declines
+// only when the two ends' nearest floats differ (or are infinite).
+TEST(RoundingNearestFloat, AnswersTheNearestFloatOfEveryValueInTheEnclosure) {
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::mt19937_64 rng = rng_for_current_test(base_seed());
+    using L = std::numeric_limits<float>;
+    const auto nearest = [](double y) -> float {
+        if (std::abs(y) > double(L::max())) return std::abs(y) >= 0x1.ffffffp127 ? std::copysign(L::infinity(), float(y)) : std::copysign(L::max(), float(y));
+        float best = 0;
+        double dbest = L::infinity();
+        const float c = static_cast<float>(y);
+        for (const float f : {std::nextafter(c, -L::infinity()), c, std::nextafter(c, L::infinity())}) {
+            const double d = std::abs(double(f) - y);
+            const bool even = (std::bit_cast<std::uint32_t>(f) & 1) == 0;
+            if (d < dbest || (d == dbest && even)) best = f, dbest = d;
+        }
+        return best;
+    };
+    int answered = 0, declined = 0;
+    for (int i = 0; i < 400000; ++i) {
+        double x = random_double_for_float(rng);
+        if (rng() % 16 == 0) x = 0;
+        if (rng() % 16 == 0) {  // a midpoint between two floats, or a float
+            const float f = static_cast<float>(x);
+            x = rng() & 1 ? double(f) : (double(f) + double(std::nextafter(f, L::infinity()))) / 2;
+        }
+        // An enclosure of x of relative width 2^-k (k from 10 to 70) or of width 0.
+        const int k = 10 + int(rng() % 61);
+        const double w = rng() % 8 == 0 ? 0 : std::ldexp(std::abs(x) + 0x1p-160, -k);
+        const double u1 = std::uniform_real_distribution<double>(0, 1)(rng), u2 = std::uniform_real_distribution<double>(0, 1)(rng);
+        const double lo = x - w * u1, hi = x + w * u2;
+        char where[128];
+        std::snprintf(where, sizeof where, "[%a, %a] around %a", lo, hi, x);
+        SCOPED_TRACE(where);
+        ASSERT_FALSE(nearest_float(lo, hi, false).ok);
+        const Pinned<float> f = nearest_float(lo, hi, true);
+        const float a = nearest(lo), b = nearest(hi);
+        if (!f.ok) {
+            ++declined;
+            ASSERT_TRUE(a != b || std::isinf(a)) << hex(a) << " " << hex(b);
+            continue;
+        }
+        ++answered;
+        ASSERT_TRUE(std::isfinite(f.t));
+        ASSERT_FALSE(f.t == 0 && std::signbit(f.t));
+        for (int j = 0; j < 8; ++j) {
+            const double y = j == 0 ? lo : j == 1 ? hi : j == 2 ? x : lo + (hi - lo) * std::uniform_real_distribution<double>(0, 1)(rng);
+            ASSERT_EQ(nearest(y), f.t) << "at " << hex(y);
+        }
+    }
+    EXPECT_GT(answered, 300000);
+    EXPECT_GT(declined, 1000);
+}

@@ -97,6 +97,36 @@ template <class T> RAYPROOF_ALWAYS_INLINE QuotientSums obb_slab_sums(const Ray<T
     return quotient_sums(make(side ? h : -h, 0.0), a, f, inputs);
 }
 
+// The certified float answer for slab value (i, side): its conservative enclosure
+// [fl(t~ - E), fl(t~ + E)] (obb_conservative_common's derivation, in the same operations:
+// o'_i~ and d'_i~ in plain double, E = 2·((eo + |num~|(u + ed·|inv|))·|inv| + 3u|t~|) +
+// 2^-1022, valid while ed_i <= 2^-20|d'_i~| and |inv| >= 2^-1022, the bound finite), and
+// t rounded to the nearest float where both its ends round to one (nearest_float).
+// Every product is rounded() (class C3), so whether it answers is the same bits in every
+// inlined copy; the general path tries it first too (ObbFrame::faithful), so the two
+// paths answer alike bit for bit. For float input: in double, with room to spare (a
+// float step is some 2^29 times the unit roundoff of double).
+template <class T>
+RAYPROOF_ALWAYS_INLINE Pinned<float> obb_nearest_float(const Ray<T>& r, const Obb<T>& b, int i, int side) {
+    static_assert(std::is_same_v<T, float>);
+    constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022, u = unit_roundoff<double>;
+    double x[3], y[3];
+    for (int j = 0; j < 3; ++j) {
+        const double a = b.axes(j, i);
+        x[j] = rounded(a * (double(r.origin[j]) - double(b.center[j])));
+        y[j] = rounded(a * double(r.direction[j]));
+    }
+    const double op = (x[0] + x[1]) + x[2], dp = (y[0] + y[1]) + y[2];
+    const double eo = rounded(g4 * ((std::abs(x[0]) + std::abs(x[1])) + std::abs(x[2]))) + eta,
+                 ed = rounded(g3 * ((std::abs(y[0]) + std::abs(y[1])) + std::abs(y[2]))) + eta;
+    const double h = b.half_extent[i], inv = 1 / dp, ai = std::abs(inv);
+    const double num = (side ? h : -h) - op, t = rounded(num * inv);
+    const double k = u + rounded(ed * ai);
+    const double e = 2 * (rounded((eo + rounded(std::abs(num) * k)) * ai) + rounded(3 * u * std::abs(t))) + eta;
+    const bool ok = int(ed <= 0x1p-20 * std::abs(dp)) & int(ai >= eta) & int(e <= std::numeric_limits<double>::max());
+    return nearest_float(t - e, t + e, ok);
+}
+
 // The slab frame of an oriented box: o'_i = (o - c)·a_i, d'_i = d·a_i, slab
 // [-h_i, h_i]; value (±h_i - o'_i)/d'_i.
 template <class T> class ObbFrame {
@@ -177,10 +207,13 @@ public:
         return expansion_safe(r_->origin) && expansion_safe(r_->direction) && expansion_safe(b_->center) &&
                expansion_safe(b_->axes) && expansion_safe(b_->half_extent);
     }
-    // t faithfully rounded to T: by pin_quotient first (the straight-line path's rounding,
-    // so that the two paths answer alike bit for bit; for float the faithful double
-    // rounded to nearest), next from the enclosure when it pins one float, else exactly.
+    // t faithfully rounded to T, as the straight-line path rounds it (so that the two
+    // paths answer alike bit for bit): for float by obb_nearest_float first, then by
+    // pin_quotient (for float the faithful double rounded to nearest); next from the
+    // interval when it pins one float, else exactly.
     T faithful(int i, int side, const Interval<double>& v, bool& went_exact) const {
+        if constexpr (std::is_same_v<T, float>)
+            if (const Pinned<float> f = obb_nearest_float(*r_, *b_, i, side); f.ok) return f.t;
         if (const PinnedQuotient x = pin_quotient(obb_slab_sums(*r_, *b_, i, side)); x.pinned) return faithful_to<T>(x.c);
         if (const std::optional<T> t = faithful_from_enclosure<T>(v)) return *t;
         RAYPROOF_COUNT_EXACT(went_exact);
@@ -313,7 +346,8 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedObb<T>& p, conse
 // when the entry's upper bound lies below the exit's lower bound (a hit) or the entry's
 // lower bound above the exit's upper bound (a miss, which needs no winner). All of it
 // runs without a branch on the ray's direction; each winning slab value is then rounded
-// by pin_quotient (obb_slab_sums), as the general path rounds it first. Anything these
+// as the general path rounds it first: for float to the nearest float from its own
+// enclosure (obb_nearest_float), else by pin_quotient (obb_slab_sums). Anything these
 // checks cannot vouch for (a value not finite, a slab nearly parallel, close values, a
 // value pin_quotient cannot pin) goes to the general path.
 template <class T>
@@ -369,15 +403,23 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_certified_common(const Ray<T>& 
     if (!hit) return out;
     T t_enter = r.t_min, t_exit = r.t_max;
     const int side_in = (negative >> w) & 1, side_out = 1 - ((negative >> v) & 1);
+    // Each winner rounded as the general path rounds it (ObbFrame::faithful): for float
+    // to the nearest float where its enclosure allows, else by pin_quotient.
+    const auto rounded_value = [&](int axis, int side) -> Pinned<T> {
+        if constexpr (std::is_same_v<T, float>)
+            if (const Pinned<float> f = obb_nearest_float(r, b, axis, side); f.ok) return f;
+        const PinnedQuotient x = pin_quotient(obb_slab_sums(r, b, axis, side));
+        return {faithful_to<T>(x.c), x.pinned};
+    };
     if (axis_wins & 1) {
-        const PinnedQuotient x = pin_quotient(obb_slab_sums(r, b, w, side_in));
-        if (!x.pinned) return std::nullopt;
-        t_enter = faithful_to<T>(x.c);
+        const Pinned<T> x = rounded_value(w, side_in);
+        if (!x.ok) return std::nullopt;
+        t_enter = x.t;
     }
     if (axis_wins & 2) {
-        const PinnedQuotient x = pin_quotient(obb_slab_sums(r, b, v, side_out));
-        if (!x.pinned) return std::nullopt;
-        t_exit = faithful_to<T>(x.c);
+        const Pinned<T> x = rounded_value(v, side_out);
+        if (!x.ok) return std::nullopt;
+        t_exit = x.t;
     }
     // As slab_certified: two exact values in one gap may round apart the wrong way.
     if (t_enter > t_exit) t_enter = t_exit;

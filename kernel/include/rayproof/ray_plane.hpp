@@ -21,8 +21,12 @@
 //            scalar types); the sign of den, and whether a parallel ray lies in the
 //            plane, are decided exactly when the intervals hold zero; t is the interval
 //            quotient, unbounded on one side when |den| may be tiny.
-//            certified — straight-line code first (plane_certified_common on
-//            plane_pin): num and den as double-word sums of exact products in two lanes,
+//            certified — for float input, the conservative enclosure first: it
+//            decides the verdict where it lies inside or outside [t_min, t_max], and
+//            gives t rounded to the nearest float where both its ends round to one
+//            (plane_nearest_float: on general-position input the double enclosure is
+//            far narrower than a float step). Then straight-line code
+//            (plane_certified_common on plane_pin): num and den as double-word sums of exact products in two lanes,
 //            with bounds that are 0 when the sums are exact; t pinned between the two
 //            neighbours of a candidate by a proven bound on the residual num - c·den
 //            (detail/compensated.hpp)
@@ -34,9 +38,10 @@
 //            (plane_certified): intervals decide what they separate, otherwise exact
 //            arithmetic (detail/exact.hpp): sign(den) and sign(num) are degree 2, the
 //            position of t against t_min/t_max sign(num - t_min·den)·sign(den) degree
-//            3; t is rounded by plane_pin first (so the two paths answer alike bit for
-//            bit), next from the interval when it lies strictly between the neighbours
-//            of its midpoint, else exactly. Before all this a plain floating-point
+//            3; t is rounded as the straight-line path rounds it, by
+//            plane_nearest_float (float) and plane_pin first (so the two paths answer
+//            alike bit for bit), next from the interval when it lies strictly between
+//            the neighbours of its midpoint, else exactly. Before all this a plain floating-point
 //            filter with derived bounds (plane_verdict_common) decides the verdict where
 //            it can: verdict() answers from it alone, the full query takes its misses.
 #pragma once
@@ -238,6 +243,89 @@ template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>&
     return usable & (int(hit) | int(miss)) ? int(hit) : verdict_declined;
 }
 
+// An enclosure of t in the pbrt-v4 manner (plane_sums, plane_enclosure; the conservative
+// answer's, and the certified float answer's): t~ = fl(N~·fl(1/D~)) from one plain
+// evaluation of N = offset - n·o and D = n·d in double, widened by a bound E derived
+// for it.
+// N~ and D~ are computed as in plane_verdict_common (-N~ = ((-offset + p_0) + p_1) + p_2,
+// D~ = (p_0' + p_1') + p_2', p_j = fl(n_j o_j), p_j' = fl(n_j d_j)), with the bounds
+// e = fl(fl(K·S~) + eta), K = gamma(4), S~ the same sums of the |terms|, eta = 2^-1022:
+// |N~ - N| <= (1 + 2^-49)·e_N and |D~ - D| < e_D (the derivation is there; a fused
+// evaluation has fewer roundings, class C1).
+// When e_D <= 2^-20|D~| (so D != 0, and the ray is not nearly parallel), with q =
+// N~/D~ exactly:
+//     |t - q| = |(N - N~)D~ + N~(D~ - D)|/|D·D~| <= (e_N' + |q|·e_D)/(|D~| - e_D)
+//             <= (1 + 2^-19)(e_N' + |q|·e_D)/|D~|,            e_N' = (1 + 2^-49)·e_N,
+// and with inv = fl(1/D~) and t~ = fl(N~·inv), both normal or zero and finite (checked:
+// |inv| in [2^-1022, max], t~ finite), |t~ - q| <= gamma(2)|q| + 2^-1075. Since |q| <=
+// (1 + 2.01u)|t~| + 2^-1074, |N~|·|inv| >= (1 - u)|q| and |inv| >= (1 - u)/|D~|,
+//     |t - t~| <= (1 + 2^-18)(e_N + |N~|·(e_D·|inv|))·|inv| + 2.01u|t~| + 2^-1073.
+// The code takes E = fl(2·fl(fl(e_N·|inv|) + fl(|t~|·fl(fl(e_D·|inv|) + 3u))) + eta),
+// each term in units of t, and |t~| standing for |N~|·|inv|: |t~| >= (1 - u)|N~|·|inv| -
+// 2^-1075. The relative error of D~, r = fl(e_D·|inv|), is normal, as e_D >= (1 - u)K·S_D~
+// (e_D >= eta covers K·S_D~ below 2^-1022) and |inv| >= (1 - u)/S_D~ (|D~| <= S_D~,
+// rounding being monotone), so r >= (1 - u)^3·K: one rounding of u; and r <= 2^-19
+// (e_D <= 2^-20|D~|). Every other product is in units of t, its underflow (2^-1075 each,
+// times at most 1 + 3u) inside eta. (Grouped as fl(|N~|·e_D)·|inv|², that product
+// underflowed to 0 for tiny normals, n near 2^-716, and the lost term was 2^18 ulps of
+// t.) Six roundings of at most (1 - u) each, with the doubling exact, leave
+//     E >= 1.99·(e_N + |N~|·(e_D·|inv|))·|inv| + 5.99u|t~| + eta/2,
+// which covers the bound above with room for the two roundings of t~ ∓ E (u(|t~| + E),
+// inside the 5.99u|t~| and the 0.99·(...)). So [fl(t~ - E), fl(t~ + E)] holds t: a hit
+// of the exact answer (t in [t_min, t_max]) is a hit here, and the interval encloses it.
+// An infinite or NaN E or t~ (an overflow: huge inputs, a nearly parallel ray) and
+// everything the checks above exclude (a parallel ray, whose answer needs the exact
+// sign of N) go to plane_conservative_general.
+// The same checks prove the validity rules but those on t_min and t_max (valid_range,
+// joined to them): |inv| in [2^-1022, max] makes D~ finite and nonzero, so n and d are
+// nonzero; e_D <= 2^-20|D~| then makes e_D, S_D~ and every |n_j d_j| finite (not NaN:
+// a comparison with NaN is false), hence n and d finite (a finite number times ±inf is
+// ±inf or NaN, 0·inf included); a finite E makes e_N, S_N~, |offset| and every
+// |n_j o_j| finite, hence offset and o finite. So an invalid input never answers here:
+// it goes to plane_conservative_general, which checks the rules in full, and the
+// certified query to its double-word path.
+// Products: the bound's are rounded() (class C3), so that whether E is finite and the
+// enclosure's ends are the same bits wherever the query is inlined (the certified float
+// path below decides from them); the n_j·o_j and n_j·d_j are exact for float input
+// (24-bit factors) and class C1 for double.
+struct PlaneSums {
+    double num, den, en, ed;  // N~, D~, e_N, e_D
+};
+template <class T> RAYPROOF_ALWAYS_INLINE PlaneSums plane_sums(const Ray<T>& r, const Plane<T>& p) {
+    constexpr double K = gamma<double>(4), eta = 0x1p-1022;
+    const double n0 = p.normal[0], n1 = p.normal[1], n2 = p.normal[2], f = p.offset;
+    const double po0 = n0 * double(r.origin[0]), po1 = n1 * double(r.origin[1]), po2 = n2 * double(r.origin[2]);
+    const double pd0 = n0 * double(r.direction[0]), pd1 = n1 * double(r.direction[1]),
+                 pd2 = n2 * double(r.direction[2]);
+    const double num = -(((-f + po0) + po1) + po2), den = (pd0 + pd1) + pd2;
+    const double sn = ((std::abs(f) + std::abs(po0)) + std::abs(po1)) + std::abs(po2);
+    const double sd = (std::abs(pd0) + std::abs(pd1)) + std::abs(pd2);
+    return {num, den, rounded(K * sn) + eta, rounded(K * sd) + eta};
+}
+struct PlaneEnclosure {
+    double t, lo, hi;  // t~ and [lo, hi], which holds t when ok
+    bool ok;           // E finite, e_D <= 2^-20|D~|, |inv| in [2^-1022, max]
+};
+RAYPROOF_ALWAYS_INLINE PlaneEnclosure plane_enclosure(const PlaneSums& x) {
+    constexpr double eta = 0x1p-1022, u = unit_roundoff<double>, big = std::numeric_limits<double>::max();
+    const double inv = 1 / x.den, ai = std::abs(inv);
+    const double t = rounded(x.num * inv);
+    const double rel = rounded(x.ed * ai) + 3 * u;  // D~'s relative error (never subnormal), t~'s roundings
+    const double bound = 2 * (rounded(x.en * ai) + rounded(std::abs(t) * rel)) + eta;
+    const bool ok = int(x.ed <= 0x1p-20 * std::abs(x.den)) & int(ai >= std::numeric_limits<double>::min()) &
+                    int(ai <= big) & int(bound <= big);  // false for NaN; a finite bound needs a finite t
+    return {t, rounded(t - bound), rounded(t + bound), ok};
+}
+
+// The certified float answer from the enclosure: t rounded to the nearest float where
+// both ends round to one (nearest_float). Every product behind lo and hi is exact or
+// rounded() (plane_sums, plane_enclosure), so whether it answers is the same wherever it
+// is inlined; the general path tries it first too (PlaneCrossing::faithful), so the two
+// paths answer alike bit for bit.
+RAYPROOF_ALWAYS_INLINE Pinned<float> plane_nearest_float(const PlaneEnclosure& e) {
+    return nearest_float(e.lo, e.hi, e.ok);
+}
+
 // The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures
 // and the exact values on demand.
 template <class T> class PlaneCrossing {
@@ -269,11 +357,16 @@ public:
         return exact_sign([&](auto tag) { return num<typename decltype(tag)::type>(); }) == 0;
     }
     Interval<double> enclose() const { return divide_signed(num_, den_, sden_); }
-    // t faithfully rounded to T, given its enclosure t (den_sign() != 0): by plane_pin
-    // first (the straight-line path's rounding; for float the faithful double rounded to
-    // nearest, see faithful_to; +0 for t == 0 exactly); next from the enclosure when it
-    // pins one float; else exactly (went_exact is then set).
+    // t faithfully rounded to T, given its enclosure t (den_sign() != 0), as the
+    // straight-line path rounds it: for float by plane_nearest_float first; by plane_pin
+    // next (for float the faithful double rounded to nearest, see faithful_to; +0 for t
+    // == 0 exactly); next from the interval when it pins one float; else exactly
+    // (went_exact is then set).
     T faithful(const Interval<double>& t, bool& went_exact) const {
+        if constexpr (std::is_same_v<T, float>) {
+            const Pinned<float> f = plane_nearest_float(plane_enclosure(plane_sums(*r_, *p_)));
+            if (f.ok) return f.t;
+        }
         const PlanePin x = plane_pin(*r_, *p_);
         if (x.pinned) return faithful_to<T>(x.c);
         if (x.zero) return T(0);
@@ -338,68 +431,15 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_conservative_genera
     return h;
 }
 
-// The conservative answer in the pbrt-v4 manner: t~ = fl(N~·fl(1/D~)) from one plain
-// evaluation of N = offset - n·o and D = n·d in double, widened by a bound E derived
-// for it, then rounded outward to T and clamped to [t_min, t_max] (outward_to).
-// N~ and D~ are computed as in plane_verdict_common (-N~ = ((-offset + p_0) + p_1) + p_2,
-// D~ = (p_0' + p_1') + p_2', p_j = fl(n_j o_j), p_j' = fl(n_j d_j)), with the bounds
-// e = fl(fl(K·S~) + eta), K = gamma(4), S~ the same sums of the |terms|, eta = 2^-1022:
-// |N~ - N| <= (1 + 2^-49)·e_N and |D~ - D| < e_D (the derivation is there; a fused
-// evaluation has fewer roundings, class C1).
-// When e_D <= 2^-20|D~| (so D != 0, and the ray is not nearly parallel), with q =
-// N~/D~ exactly:
-//     |t - q| = |(N - N~)D~ + N~(D~ - D)|/|D·D~| <= (e_N' + |q|·e_D)/(|D~| - e_D)
-//             <= (1 + 2^-19)(e_N' + |q|·e_D)/|D~|,            e_N' = (1 + 2^-49)·e_N,
-// and with inv = fl(1/D~) and t~ = fl(N~·inv), both normal or zero and finite (checked:
-// |inv| in [2^-1022, max], t~ finite), |t~ - q| <= gamma(2)|q| + 2^-1075. Since |q| <=
-// (1 + 2.01u)|t~| + 2^-1074, |N~|·|inv| >= (1 - u)|q| and |inv| >= (1 - u)/|D~|,
-//     |t - t~| <= (1 + 2^-18)(e_N + |N~|·(e_D·|inv|))·|inv| + 2.01u|t~| + 2^-1073.
-// The code takes E = fl(2·fl(fl(e_N·|inv|) + fl(|t~|·fl(fl(e_D·|inv|) + 3u))) + eta),
-// each term in units of t, and |t~| standing for |N~|·|inv|: |t~| >= (1 - u)|N~|·|inv| -
-// 2^-1075. The relative error of D~, r = fl(e_D·|inv|), is normal, as e_D >= (1 - u)K·S_D~
-// (e_D >= eta covers K·S_D~ below 2^-1022) and |inv| >= (1 - u)/S_D~ (|D~| <= S_D~,
-// rounding being monotone), so r >= (1 - u)^3·K: one rounding of u; and r <= 2^-19
-// (e_D <= 2^-20|D~|). Every other product is in units of t, its underflow (2^-1075 each,
-// times at most 1 + 3u) inside eta. (Grouped as fl(|N~|·e_D)·|inv|², that product
-// underflowed to 0 for tiny normals, n near 2^-716, and the lost term was 2^18 ulps of
-// t.) Six roundings of at most (1 - u) each, with the doubling exact, leave
-//     E >= 1.99·(e_N + |N~|·(e_D·|inv|))·|inv| + 5.99u|t~| + eta/2,
-// which covers the bound above with room for the two roundings of t~ ∓ E (u(|t~| + E),
-// inside the 5.99u|t~| and the 0.99·(...)). So [fl(t~ - E), fl(t~ + E)] holds t: a hit
-// of the exact answer (t in [t_min, t_max]) is a hit here, and the interval encloses it.
-// An infinite or NaN E or t~ (an overflow: huge inputs, a nearly parallel ray) and
-// everything the checks above exclude (a parallel ray, whose answer needs the exact
-// sign of N) go to plane_conservative_general.
-// The same checks prove the validity rules but those on t_min and t_max (valid_range,
-// joined to them): |inv| in [2^-1022, max] makes D~ finite and nonzero, so n and d are
-// nonzero; e_D <= 2^-20|D~| then makes e_D, S_D~ and every |n_j d_j| finite (not NaN:
-// a comparison with NaN is false), hence n and d finite (a finite number times ±inf is
-// ±inf or NaN, 0·inf included); a finite E makes e_N, S_N~, |offset| and every
-// |n_j o_j| finite, hence offset and o finite. So an invalid input never answers here:
-// it goes to plane_conservative_general, which checks the rules in full.
+// The conservative answer: the enclosure (plane_enclosure) rounded outward to T and
+// clamped to [t_min, t_max] (outward_to), its verdict decided on the enclosure itself.
+// What the enclosure's checks exclude goes to plane_conservative_general.
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray<T>& r, const Plane<T>& p) {
-    constexpr double K = gamma<double>(4), eta = 0x1p-1022, u = unit_roundoff<double>,
-                     big = std::numeric_limits<double>::max();
-    const double n0 = p.normal[0], n1 = p.normal[1], n2 = p.normal[2], f = p.offset;
-    const double po0 = n0 * double(r.origin[0]), po1 = n1 * double(r.origin[1]), po2 = n2 * double(r.origin[2]);
-    const double pd0 = n0 * double(r.direction[0]), pd1 = n1 * double(r.direction[1]),
-                 pd2 = n2 * double(r.direction[2]);
-    const double num = -(((-f + po0) + po1) + po2), den = (pd0 + pd1) + pd2;
-    const double sn = ((std::abs(f) + std::abs(po0)) + std::abs(po1)) + std::abs(po2);
-    const double sd = (std::abs(pd0) + std::abs(pd1)) + std::abs(pd2);
-    const double en = K * sn + eta, ed = K * sd + eta;
-    const double inv = 1 / den, ai = std::abs(inv);
-    const double t = num * inv;
-    const double rel = ed * ai + 3 * u;  // D~'s relative error (never subnormal), t~'s roundings
-    const double bound = 2 * (en * ai + std::abs(t) * rel) + eta;
-    const bool ok = int(ed <= 0x1p-20 * std::abs(den)) & int(ai >= std::numeric_limits<double>::min()) &
-                    int(ai <= big) & int(bound <= big) &  // false for NaN; a finite bound needs a finite t
-                    int(valid_range(r));
-    if (!ok) [[unlikely]]
+    const PlaneEnclosure e = plane_enclosure(plane_sums(r, p));
+    if (!(int(e.ok) & int(valid_range(r)))) [[unlikely]]
         return std::nullopt;
-    const double lo = rounded(t - bound), hi = rounded(t + bound);
-    const OutwardEnds<T> ends = outward_to<T>(lo, hi, r.t_min, r.t_max);
+    const OutwardEnds<T> ends = outward_to<T>(e.lo, e.hi, r.t_min, r.t_max);
     return hit_when(ends.meets, ends.lo, ends.hi);
 }
 
@@ -452,7 +492,10 @@ template <class T, class X> Hit<T> plane_certified(const Ray<T>& r, const X& x) 
     return h;
 }
 
-// The straight-line path of the certified mode: every decision from plane_pin. With t
+// The straight-line path of the certified mode. For float input the conservative
+// enclosure first: a hit when it lies inside [t_min, t_max] and t rounds to one float
+// (plane_nearest_float, then the answer wherever this path hits), a miss when it lies
+// outside. Then every decision from plane_pin. With t
 // proven strictly between c's neighbours, t > t_min when c > t_min and t < t_max when c <
 // t_max (a hit: t_min and t_max are doubles, so c > t_min means c's lower neighbour is
 // at least t_min), t < t_min when c < t_min and t > t_max when c > t_max (a miss); a t
@@ -468,9 +511,24 @@ template <class T, class X> Hit<T> plane_certified(const Ray<T>& r, const X& x) 
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_certified_common(const Ray<T>& r, const Plane<T>& p,
                                                                     bool rest_valid = true) {
+    const double lo = double(r.t_min), hi = double(r.t_max);
+    Pinned<T> nearest{T(0), false};
+    if constexpr (std::is_same_v<T, float>) {
+        // The enclosure first (plane_enclosure: no double-word arithmetic), which decides
+        // the verdict where it lies inside [t_min, t_max] or outside it, and rounds t to
+        // the nearest float where it can (plane_nearest_float); its checks prove the
+        // input valid but for t_min and t_max (rest_valid).
+        // One branch, on whether it decided (nearly always); hit or miss is chosen
+        // without a jump (hit_when: a coin toss on random rays).
+        const PlaneEnclosure e = plane_enclosure(plane_sums(r, p));
+        nearest = plane_nearest_float(e);
+        const bool inside = int(e.lo >= lo) & int(e.hi <= hi) & int(nearest.ok),
+                   outside = int(e.hi < lo) | int(e.lo > hi);
+        if (int(rest_valid) & int(e.ok) & (int(inside) | int(outside))) [[likely]]
+            return hit_when(inside, nearest.t, nearest.t);
+    }
     if (plane_verdict_common(r, p) == int(Verdict::miss)) return Hit<T>{};
     const PlanePin x = plane_pin(r, p);
-    const double lo = double(r.t_min), hi = double(r.t_max);
     const bool crossing = int(x.pinned) & int(x.c > lo) & int(x.c < hi);
     const bool at_zero = int(x.zero) & int(lo <= 0) & int(hi >= 0);
     const bool miss = (int(x.pinned) & (int(x.c < lo) | int(x.c > hi))) |
@@ -480,7 +538,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_certified_common(const Ray<T>
     if (rest_valid && (crossing || at_zero || miss)) {
         if (crossing || at_zero) {
             h.verdict = Verdict::hit;
-            h.t_enter = h.t_exit = crossing ? faithful_to<T>(x.c) : T(0);
+            h.t_enter = h.t_exit = nearest.ok ? nearest.t : crossing ? faithful_to<T>(x.c) : T(0);
         }
         return h;
     }

@@ -49,8 +49,9 @@
 //            declines what it cannot separate). The verdict and the face
 //            are exact; the winners' t is faithfully rounded: a plane ±e_i as the box's
 //            slab values are (so a polyhedron of a box's planes answers as the box, bit
-//            for bit), any other plane as the plane's crossing is (plane_pin, the
-//            enclosure, else an exact quotient). verdict() runs the same pass without the
+//            for bit), any other plane as the plane's crossing is (for float the
+//            nearest float from its enclosure first, then plane_pin, the interval, else
+//            an exact quotient). verdict() runs the same pass without the
 //            rounding. No allocation, any number of planes.
 #pragma once
 
@@ -308,7 +309,8 @@ static_assert(ExactQuotients<AxisCrossing<float>> && ExactQuotients<AxisCrossing
 
 // Plane k's crossing faithfully rounded to T, given an enclosure v of it (den_k != 0).
 // A slab plane as above; any other by the plane's own rounding (PlaneCrossing::faithful:
-// plane_pin's pinned candidate, else the enclosure when it pins one float, else exact),
+// for float the nearest float where the plane's enclosure gives one, then plane_pin's
+// pinned candidate, else the interval when it pins one float, else exact),
 // so that a one-plane polyhedron and the plane agree on t.
 template <class T>
 T poly_faithful(const Ray<T>& r, const Plane<T>& p, const PolySource<T>& src, const Interval<double>& v,

@@ -51,6 +51,20 @@ template <class T> T faithful_to(double t) {
     }
 }
 
+// The float nearest t (ties to even) from an enclosure [lo, hi] of t (doubles; ok: it
+// holds t), when both ends round to the same float f. Rounding to nearest is monotone,
+// so every value in [lo, hi], t included, rounds to f: the answer is a function of the
+// exact t, not of the enclosure (a faithful rounding, the closest one), and two paths
+// that answer from it agree bit for bit whatever their enclosures. Not ok when an end
+// rounds elsewhere (the enclosure holds a midpoint between floats), when f is infinite
+// (t beyond the largest float, whose faithful answer is that float: faithful_to) or
+// when the enclosure is not ok. -0 == +0, so an enclosure of t around 0 answers +0 (f +
+// 0, as the other paths answer t == 0).
+RAYPROOF_ALWAYS_INLINE Pinned<float> nearest_float(double lo, double hi, bool ok) {
+    const float a = narrow<float>(lo), b = narrow<float>(hi);
+    return {a + 0.0f, bool(int(ok) & int(a == b) & int(std::abs(a) <= std::numeric_limits<float>::max()))};
+}
+
 // The conservative answer from a straight-line path when it answered, else from
 // `general()`: common_or_general below without the certified mode's query count.
 template <class T, class General>

@@ -145,10 +145,6 @@ template <class T> RAYPROOF_ALWAYS_INLINE T sphere_canonical(T x) { return x == 
 struct PinSigns {  // each true only when proven
     bool at_pos, at_neg, below_pos, below_neg, above_pos, above_neg;
 };
-template <class T> struct Pinned {
-    T t;
-    bool ok;
-};
 template <class T> RAYPROOF_ALWAYS_INLINE Pinned<T> sphere_pin_enter(const Ray<T>& r, T g, const PinSigns& s) {
     const bool on_g = s.at_neg && g <= r.t_max && s.below_pos;
     const bool on_up = s.at_pos && s.above_neg && step_up(g) <= r.t_max;

@@ -50,6 +50,13 @@ template <class T, class X> [[nodiscard]] inline T narrow(X x) noexcept {
     return y;
 }
 
+// A value a straight-line path has proven to be the answer (ok), or not ok (the general
+// path answers).
+template <class T> struct Pinned {
+    T t;
+    bool ok;
+};
+
 // gamma(n) = n·u/(1 − n·u) (Higham, ASNA, Lemma 3.1).
 template <class T> constexpr T gamma(int n) {
     return (T(n) * unit_roundoff<T>) / (T(1) - T(n) * unit_roundoff<T>);
