@@ -21,29 +21,29 @@
 //            scalar types); the sign of den, and whether a parallel ray lies in the
 //            plane, are decided exactly when the intervals hold zero; t is the interval
 //            quotient, unbounded on one side when |den| may be tiny.
-//            certified — for float input, the conservative enclosure first: it
-//            decides the verdict where it lies inside or outside [t_min, t_max], and
-//            gives t rounded to the nearest float where both its ends round to one
-//            (plane_nearest_float: on general-position input the double enclosure is
-//            far narrower than a float step). Then straight-line code
-//            (plane_certified_common on plane_pin): num and den as double-word sums of exact products in two lanes,
-//            with bounds that are 0 when the sums are exact; t pinned between the two
-//            neighbours of a candidate by a proven bound on the residual num - c·den
-//            (detail/compensated.hpp)
-//            (then t against t_min and t_max is decided by comparing c with them, and c
-//            is t faithfully rounded; for float the faithful double rounded to nearest);
-//            a rough enclosure of t for nearly parallel rays that miss; exact zeros
-//            (t == 0, a ray in or parallel to the plane) when the sums are exact. No
-//            interval and one branch. What it cannot decide goes to the general path
-//            (plane_certified): intervals decide what they separate, otherwise exact
-//            arithmetic (detail/exact.hpp): sign(den) and sign(num) are degree 2, the
-//            position of t against t_min/t_max sign(num - t_min·den)·sign(den) degree
-//            3; t is rounded as the straight-line path rounds it, by
-//            plane_nearest_float (float) and plane_pin first (so the two paths answer
-//            alike bit for bit), next from the interval when it lies strictly between
-//            the neighbours of its midpoint, else exactly. Before all this a plain floating-point
-//            filter with derived bounds (plane_verdict_common) decides the verdict where
-//            it can: verdict() answers from it alone, the full query takes its misses.
+//            certified — for float input, the conservative enclosure first: it decides
+//            the verdict where it lies inside or outside [t_min, t_max], and gives t
+//            rounded to the nearest float where both its ends round to one
+//            (plane_nearest_float: on general-position input the double enclosure is far
+//            narrower than a float step). Then straight-line code (plane_certified_common
+//            on plane_pin): num and den as double-word sums of exact products in two
+//            lanes, with bounds that are 0 when the sums are exact; t pinned between the
+//            two neighbours of a candidate by a proven bound on the residual num - c·den
+//            (detail/compensated.hpp) (then t against t_min and t_max is decided by
+//            comparing c with them, and c is t faithfully rounded; for float the faithful
+//            double rounded to nearest); a rough enclosure of t for nearly parallel rays
+//            that miss; exact zeros (t == 0, a ray in or parallel to the plane) when the
+//            sums are exact. No interval and one branch. What it cannot decide goes to
+//            the general path (plane_certified): intervals decide what they separate,
+//            otherwise exact arithmetic (detail/exact.hpp): sign(den) and sign(num) are
+//            degree 2, the position of t against t_min/t_max
+//            sign(num - t_min·den)·sign(den) degree 3; t is rounded as the straight-line
+//            path rounds it, by plane_nearest_float (float) and plane_pin first (so the two paths
+//            answer alike bit for bit), next from the interval when it lies strictly
+//            between the neighbours of its midpoint, else exactly. Before all this a
+//            plain floating-point filter with derived bounds (plane_verdict_common)
+//            decides the verdict where it can: verdict() answers from it alone, the full
+//            query takes its misses.
 #pragma once
 
 #include <rayproof/detail/certified.hpp>
