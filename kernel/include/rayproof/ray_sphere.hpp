@@ -275,13 +275,14 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_conservative_gener
 //     u|disc| <= u(1 + u)·max(ra~, ρ~) <= 1.01u·(ra~ + ρ~). Hence
 //       D = r²a - |c|² <= disc + 6.02u·ra~ + 4.03u·ρ~ + 6.06u·Q~ + 9.4u²·P~².
 //   e_D = fl(8u·S), S = fl(fl(ra~ + ρ~) + fl(Q~ + fl(2^-51·fl(P~·P~)))) (2^-51 = 4u): S
-//     is at least (1 - u)^4 of its exact sum (P~² >= 2^-974 and 4u·P~² are normal when ρ~
-//     > 0, and that term is needed only then; Q~ likewise), and 8u·S is normal as S >=
+//     is at least (1 - u)^4 of the exact sum of its four terms (P~² >= 2^-974 and 4u·P~²
+//     are normal when ρ~ > 0, and that term is needed only then), and 8u·S (a power of
+//     two times S) loses at most 2^-1075 to underflow, below 2^-25 of it, as S >=
 //     2^-1000 whenever r > 0 or ρ~ > 0 (with both 0, D = -|c|² <= 0 = disc needs no
-//     bound), so e_D >= 7.99u·(ra~ + ρ~ + Q~ + 4u·P~²). D_hi = fl(disc + e_D) loses at
-//     most u(|disc| + e_D) <= 1.01u·(ra~ + ρ~) + u·e_D to its rounding, so D_hi >= disc +
-//     6.97u·(ra~ + ρ~) + 7.98u·Q~ + 31.9u²·P~² >= D. A D_hi that overflows to +inf is
-//     still >= D.
+//     bound), so e_D >= 8u(1 - u)^4(1 - 2^-25)·(ra~ + ρ~ + Q~ + 4u·P~²) >= 7.99u·(ra~ +
+//     ρ~ + Q~ + 4u·P~²). D_hi = fl(disc + e_D) loses at most u(|disc| + e_D) <= 1.01u·(ra~
+//     + ρ~) + u·e_D to its rounding, so D_hi >= disc + 6.97u·(ra~ + ρ~) + 7.98u·Q~ +
+//     31.9u²·P~² >= D. A D_hi that overflows to +inf is still >= D.
 //   W = fl(fl(s·ik) + 2^-500), s = fl(sqrt(max(D_hi, 0))), ik = fl(inv·k), k = 1 + 12u
 //     (exact; ik is ready before s): sqrt(D) <= s/(1 - u) and 1/a <= (1 + 4.01u)·inv, so
 //     sqrt(D)/a <= (1 + 5.02u)·s·inv; and W·(1 - 2u) >= (s·inv·k(1 - u)² - 2^-1075 +
