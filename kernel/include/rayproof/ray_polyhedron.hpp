@@ -311,7 +311,9 @@ static_assert(ExactQuotients<AxisCrossing<float>> && ExactQuotients<AxisCrossing
 // A slab plane as above; any other by the plane's own rounding (PlaneCrossing::faithful:
 // for float the nearest float where the plane's enclosure gives one, then plane_pin's
 // pinned candidate, else the interval when it pins one float, else exact),
-// so that a one-plane polyhedron and the plane agree on t.
+// so that a one-plane polyhedron and the plane agree on t. For float the nearest float
+// is tried here before the crossing's intervals are built (the same first step, so the
+// same answer: the intervals cost more than the rest of a winner's rounding).
 template <class T>
 T poly_faithful(const Ray<T>& r, const Plane<T>& p, const PolySource<T>& src, const Interval<double>& v,
                 bool& went_exact) {
@@ -325,6 +327,8 @@ T poly_faithful(const Ray<T>& r, const Plane<T>& p, const PolySource<T>& src, co
             return exact_faithful<T>(AxisCrossing<T>{q, r.origin[i], r.direction[i], src.safe()}, 0, 0);
         }
     }
+    if constexpr (std::is_same_v<T, float>)
+        if (const Pinned<float> f = plane_nearest_float(plane_enclosure(plane_sums(r, p))); f.ok) return f.t;
     return PlaneCrossing<T>(r, p).faithful(v, went_exact);
 }
 
