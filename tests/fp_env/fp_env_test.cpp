@@ -9,7 +9,10 @@
 // subnormal inputs), are answered once in the default environment and once under the
 // environment, by the same compiled code, and must agree bit for bit:
 //   intersect and verdict, scalar, batch and with a RuntimeMode, in the certified and the
-//   conservative mode; normal, surface_point, spawn_offset, spawn_origin (both sides) and
+//   conservative mode, with a PreparedRay, and the scalar forms (Ray, PreparedRay,
+//   RuntimeMode) given an FpEnvScope made under the environment (fp_env_scope.hpp: they
+//   must answer what the forms without it answer in the default environment, and the
+//   scope's end must bring the environment tested back); normal, surface_point, spawn_offset, spawn_origin (both sides) and
 //   offset_origin for each mode's default-environment hit.
 // After every one of those calls the environment must be the one the test set (the
 // kernel restores the caller's state). The generators and the comparisons run in the
@@ -183,6 +186,9 @@ template <class T> std::string show(const Vec3<T>& v) {
 template <class T> struct ModeAnswers {
     Hit<T> scalar, runtime, batch[2];
     Verdict verdict = Verdict::miss, verdict_runtime = Verdict::miss, verdict_batch[2] = {};
+    // The forms that take an FpEnvScope, the scope made under the environment tested.
+    Hit<T> prepared, scoped, scoped_prepared, scoped_runtime;
+    Verdict verdict_prepared = Verdict::miss, verdict_scoped = Verdict::miss, verdict_scoped_prepared = Verdict::miss;
     Vec3<T> normal = Vec3<T>::Zero(), spawn_out = Vec3<T>::Zero(), spawn_in = Vec3<T>::Zero(),
             offset = Vec3<T>::Zero();
     SurfacePoint<T> sp;
@@ -207,6 +213,15 @@ template <class T> std::string differences(const ModeAnswers<T>& a, const ModeAn
         if (!same(x, y)) os << "\n    " << what << ": default " << show(x) << ", under it " << show(y);
     };
     hit("intersect", a.scalar, b.scalar);
+    // The scoped forms under the environment against the forms without a scope in the
+    // default one: the same answers.
+    hit("intersect(FpEnvScope)", a.scalar, b.scoped);
+    hit("intersect(PreparedRay)", a.prepared, b.prepared);
+    hit("intersect(PreparedRay, FpEnvScope)", a.prepared, b.scoped_prepared);
+    hit("intersect(RuntimeMode, FpEnvScope)", a.runtime, b.scoped_runtime);
+    ver("verdict(FpEnvScope)", a.verdict, b.verdict_scoped);
+    ver("verdict(PreparedRay)", a.verdict_prepared, b.verdict_prepared);
+    ver("verdict(PreparedRay, FpEnvScope)", a.verdict_prepared, b.verdict_scoped_prepared);
     hit("intersect(RuntimeMode)", a.runtime, b.runtime);
     hit("batch intersect[0]", a.batch[0], b.batch[0]);
     hit("batch intersect[1] (reversed ray)", a.batch[1], b.batch[1]);
@@ -246,6 +261,20 @@ void answer_mode(const gen::Case<T, Shape>& c, const Hit<T>& hit, Mode mode, Run
     check("verdict");
     a.verdict_runtime = verdict(c.ray, c.shape, rm);
     check("verdict(RuntimeMode)");
+    const PreparedRay<T> prepared(c.ray);
+    a.prepared = intersect(prepared, c.shape, mode);
+    check("intersect(PreparedRay)");
+    a.verdict_prepared = verdict(prepared, c.shape, mode);
+    check("verdict(PreparedRay)");
+    {
+        const FpEnvScope scope;
+        a.scoped = intersect(c.ray, c.shape, mode, scope);
+        a.scoped_prepared = intersect(prepared, c.shape, mode, scope);
+        a.scoped_runtime = intersect(c.ray, c.shape, rm, scope);
+        a.verdict_scoped = verdict(c.ray, c.shape, mode, scope);
+        a.verdict_scoped_prepared = verdict(prepared, c.shape, mode, scope);
+    }
+    check("the end of an FpEnvScope");
     const Ray<T> rays[2] = {c.ray, reversed(c.ray)};
     intersect(std::span<const Ray<T>>(rays), c.shape, mode, std::span<Hit<T>>(a.batch));
     check("batch intersect");

@@ -677,7 +677,9 @@ TYPED_TEST(BvhTest, FastNodeTestIsTheFastPacketsLanes) {
 // flush-to-zero with denormals-are-zero, and under upward rounding, the tree is built
 // the same bit for bit and certified closest_hit equals the brute force asked in the
 // default environment, on a scene at a normal scale and on one scaled into the
-// subnormals (where DAZ would read every coordinate as zero).
+// subnormals (where DAZ would read every coordinate as zero); for_each_candidate given an
+// FpEnvScope made there lists the candidates it lists in the default environment without
+// one, and the scope's end restores the caller's control state.
 template <class T, int W> void check_foreign_env(unsigned csr_bits, int round) {
     std::mt19937_64 g = make_rng();
     std::uniform_real_distribution<double> u(-12, 12);
@@ -697,6 +699,24 @@ template <class T, int W> void check_foreign_env(unsigned csr_bits, int round) {
             rays.push_back(k % 2 ? ray_to(o, aim(s.prims[std::size_t(g() % s.prims.size())])) : Ray<T>{o, v3<T>(u(g), u(g), u(g))});
             refs.push_back(closest_hit(rays.back(), std::span<const Primitive<T>>(s.prims), certified));
         }
+        // for_each_candidate's list (every candidate, t_limit = t_max), without a scope in
+        // the default environment and with an FpEnvScope made under the foreign one.
+        const auto candidates_of = [&](const Ray<T>& r, const FpEnvScope* scope) {
+            std::vector<std::size_t> c;
+            T limit = r.t_max;
+            const PreparedRay<T> pr(r);
+            const auto take = [&c](std::size_t i) {
+                c.push_back(i);
+                return true;
+            };
+            if (scope)
+                home.for_each_candidate(pr, certified, limit, take, *scope);
+            else
+                home.for_each_candidate(pr, certified, limit, take);
+            return c;
+        };
+        std::vector<std::vector<std::size_t>> ref_candidates, scoped_candidates;
+        for (const Ray<T>& r : rays) ref_candidates.push_back(candidates_of(r, nullptr));
         const unsigned saved = _mm_getcsr();
         _mm_setcsr(saved | csr_bits);
         const int saved_round = std::fegetround();
@@ -707,8 +727,16 @@ template <class T, int W> void check_foreign_env(unsigned csr_bits, int round) {
             got.push_back(away.closest_hit(r, certified));
             cons.push_back(away.closest_hit(r, conservative));
         }
+        {
+            const FpEnvScope scope;
+            for (const Ray<T>& r : rays) scoped_candidates.push_back(candidates_of(r, &scope));
+        }
+        const unsigned csr_after_scope = _mm_getcsr();
         std::fesetround(saved_round);
         _mm_setcsr(saved);
+        EXPECT_EQ(csr_after_scope & 0xFFC0u, (saved | csr_bits | (round == FE_UPWARD ? 0x4000u : round == FE_DOWNWARD ? 0x2000u : 0u)) & 0xFFC0u)
+            << "the FpEnvScope did not restore the caller's control state";
+        EXPECT_EQ(scoped_candidates, ref_candidates) << "for_each_candidate in an FpEnvScope";
         SCOPED_TRACE("scale " + std::to_string(scale));
         ASSERT_EQ(home.nodes().size(), away.nodes().size());
         for (std::size_t n = 0; n < home.nodes().size(); ++n)

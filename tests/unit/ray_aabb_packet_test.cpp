@@ -20,8 +20,13 @@
 // random packets of hard boxes built around points of the ray. The filter is also
 // checked to decide the clear lanes itself (no scalar fallback for them), in float lanes
 // or, when the float reciprocals are not normal, in double lanes; and the guarded modes
-// are checked to answer alike under every directed rounding mode. Vec::store_widened
+// are checked to answer alike under every directed rounding mode. The forms that take an
+// FpEnvScope equal the forms without it on every packet above (check_packet), in and
+// under a foreign rounding mode the scope restores, and a scoped query stops the program
+// when the environment was changed inside the scope (the check this file turns on). Vec::store_widened
 // (the BVH's node entries) is checked lane by lane in both backends.
+// The FpEnvScope forms check their precondition here at every call (fp_env_scope.hpp).
+#define RAYPROOF_CHECK_FP_ENV_SCOPE 1
 #include "same_hit.hpp"
 #include <rayproof/rayproof.hpp>
 
@@ -126,6 +131,16 @@ template <class T, int W> void check_packet(const Ray<T>& r, const AabbPacket<T,
     EXPECT_EQ(std::memcmp(a.face, b.face, sizeof a.face), 0);
     // The public forms are the native backend.
     EXPECT_EQ(verdict(pr, p, certified), b.mask);
+    // In an FpEnvScope (checked: RAYPROOF_CHECK_FP_ENV_SCOPE above), every mode: the
+    // answers of the forms without it, bit for bit.
+    const FpEnvScope env;
+    const auto scoped = [&](auto m) {
+        EXPECT_TRUE(same_packet(intersect(pr, p, m, env), intersect(pr, p, m))) << mode_name(m) << " in an FpEnvScope";
+        EXPECT_EQ(verdict(pr, p, m, env), verdict(pr, p, m)) << mode_name(m) << " in an FpEnvScope";
+    };
+    scoped(fast);
+    scoped(conservative);
+    scoped(certified);
 }
 
 template <class T> Aabb<T> box(T x0, T y0, T z0, T x1, T y1, T z1) { return {Vec3<T>(x0, y0, z0), Vec3<T>(x1, y1, z1)}; }
@@ -417,12 +432,55 @@ TYPED_TEST(Packet, ForeignRoundingModeIsGuarded) {
             ASSERT_EQ(std::fesetround(mode), 0);
             const PacketHit<T, W> c2 = intersect(pr, p, certified), k2 = intersect(pr, p, conservative);
             const std::uint32_t v2 = verdict(pr, p, certified);
+            // The same in an FpEnvScope made under the foreign mode, which must be back
+            // when the scope ends.
+            PacketHit<T, W> c3, k3;
+            std::uint32_t v3 = 0;
+            bool switched = false;
+            {
+                const FpEnvScope env;
+                switched = env.switched();
+                c3 = intersect(pr, p, certified, env);
+                k3 = intersect(pr, p, conservative, env);
+                v3 = verdict(pr, p, certified, env);
+            }
+            const int after = std::fegetround();
             std::fesetround(FE_TONEAREST);
             EXPECT_TRUE(same_packet(c, c2)) << "certified, rounding mode " << mode;
             EXPECT_TRUE(same_packet(k, k2)) << "conservative, rounding mode " << mode;
             EXPECT_EQ(v2, c.mask);
+            EXPECT_TRUE(switched) << "the scope did not see the foreign rounding mode " << mode;
+            EXPECT_TRUE(same_packet(c, c3)) << "certified in an FpEnvScope, rounding mode " << mode;
+            EXPECT_TRUE(same_packet(k, k3)) << "conservative in an FpEnvScope, rounding mode " << mode;
+            EXPECT_EQ(v3, c.mask);
+            EXPECT_EQ(after, mode) << "the FpEnvScope did not restore the caller's rounding mode";
         }
     }
+}
+
+// An FpEnvScope's precondition, checked (RAYPROOF_CHECK_FP_ENV_SCOPE): a scoped query
+// after the environment was changed inside the scope stops the program with a message,
+// and the forms without a scope still answer there.
+TEST(FpEnvScopeDeathTest, EnvironmentChangedInsideTheScopeStopsTheProgram) {
+    const AabbPacket<double, 4> p = shifted_cubes<double, 4>(0.75);
+    const PreparedRay<double> pr(Ray<double>{Vec3<double>(-3, 0.25, 0.5), Vec3<double>(1, 0.125, 0.0625)});
+    const Ray<double> r = pr.ray();
+    const Aabb<double> b = p.box(0);
+    const auto broken = [](auto query) {
+        const FpEnvScope env;
+        std::fesetround(FE_UPWARD);
+        const auto answer = query(env);
+        std::fesetround(FE_TONEAREST);
+        return answer;
+    };
+    EXPECT_DEATH(broken([&](const FpEnvScope& e) { return verdict(pr, p, certified, e); }), "not the default");
+    EXPECT_DEATH(broken([&](const FpEnvScope& e) { return intersect(pr, p, conservative, e).mask; }), "not the default");
+    EXPECT_DEATH(broken([&](const FpEnvScope& e) { return intersect(r, b, certified, e).verdict; }), "not the default");
+    EXPECT_DEATH(broken([&](const FpEnvScope& e) { return verdict(pr, b, conservative, e); }), "not the default");
+    // Fast mode reads no environment, with or without a scope; the forms without a scope
+    // establish their own.
+    EXPECT_EQ(broken([&](const FpEnvScope& e) { return verdict(pr, p, fast, e); }), verdict(pr, p, fast));
+    EXPECT_EQ(broken([&](const FpEnvScope&) { return verdict(pr, p, certified); }), verdict(pr, p, certified));
 }
 
 // Seeded random packets of hard boxes: a box with a corner, an edge or a face placed on a

@@ -92,7 +92,9 @@
 //            floating-point environment whatever the caller's (detail/fp_env.hpp), as the
 //            brute force does: compare_entry and the primitives' comparisons assume it.
 //            for_each_candidate runs its callback in the caller's environment; its node
-//            tests answer in the default one, and the traversal itself only compares
+//            tests answer in the default one (reading the control state per node, or,
+//            given an FpEnvScope, not at all: the scope holds it), and the traversal
+//            itself only compares
 //            (under denormals-are-zero x > y may answer false where it is true, never the
 //            reverse, so a child is then kept, never lost) and selects the narrowed range
 //            end and steps next_up by their bits, never by min or arithmetic.
@@ -199,15 +201,16 @@ template <class T> RAYPROOF_ALWAYS_INLINE T bvh_select(bool take_a, T a, T b) no
 }
 
 // One primitive's answer in the mode, with the caller's prepared ray (so the very Hit
-// brute force gets).
+// brute force gets), inside the traversal's environment (closest_hit and any_hit hold
+// it): the entry point's query without its per-call read (detail::query_in_env).
 template <class T, class Mode>
 RAYPROOF_ALWAYS_INLINE Hit<T> bvh_intersect(const PreparedRay<T>& ray, const Primitive<T>& p, Mode mode) noexcept {
     switch (p.index()) {
-        case 0: return rayproof::intersect(ray, *std::get_if<0>(&p), mode);
-        case 1: return rayproof::intersect(ray, *std::get_if<1>(&p), mode);
-        case 2: return rayproof::intersect(ray, *std::get_if<2>(&p), mode);
-        case 3: return rayproof::intersect(ray, *std::get_if<3>(&p), mode);
-        case 4: return rayproof::intersect(ray, *std::get_if<4>(&p), mode);
+        case 0: return query_in_env(ray, *std::get_if<0>(&p), mode);
+        case 1: return query_in_env(ray, *std::get_if<1>(&p), mode);
+        case 2: return query_in_env(ray, *std::get_if<2>(&p), mode);
+        case 3: return query_in_env(ray, *std::get_if<3>(&p), mode);
+        case 4: return query_in_env(ray, *std::get_if<4>(&p), mode);
         default: return invalid_hit<T>();  // valueless: not a primitive
     }
 }
@@ -243,7 +246,7 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_filter(const PreparedRay<T>& pr, c
     e_lo.store_widened(t);
     for (std::uint32_t u = simd::and_not(f.ok, f.finite).bits(); u != 0; u &= u - 1) {
         const int i = std::countr_zero(u);
-        const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
+        const Hit<T> h = query_in_env(pr, b.box(i), conservative);  // in the node test's environment
         mask |= std::uint32_t(h.verdict == Verdict::hit) << i;
         t[i] = double(h.t_enter);
     }
@@ -313,7 +316,7 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_conservative(const PreparedRay<T>&
         std::uint32_t mask = 0;
         for (int i = 0; i < W; ++i)
             if (valid(b.box(i))) {
-                const Hit<T> h = rayproof::intersect(pr, b.box(i), conservative);
+                const Hit<T> h = query_in_env(pr, b.box(i), conservative);  // in the node test's environment
                 mask |= std::uint32_t(h.verdict == Verdict::hit) << i;
                 t[i] = double(h.t_enter);
             }
@@ -417,6 +420,15 @@ public:
     void for_each_candidate(const PreparedRay<T>& ray, Mode mode, T& t_limit, F&& f) const {
         auto by_index = [this, &f](std::size_t position) { return f(index_of(position)); };
         candidates<false>(ray, mode, t_limit, by_index);
+    }
+    // The same in an FpEnvScope (fp_env_scope.hpp): f runs in the scope's environment,
+    // the default one, and the node tests do not read the control state per node.
+    template <class Mode, class F>
+        requires is_mode_v<Mode>
+    void for_each_candidate(const PreparedRay<T>& ray, Mode mode, T& t_limit, F&& f, const FpEnvScope&) const {
+        detail::fp_env_scope_check();
+        auto by_index = [this, &f](std::size_t position) { return f(index_of(position)); };
+        candidates<true>(ray, mode, t_limit, by_index);
     }
 
 private:
@@ -552,13 +564,14 @@ private:
     }
 
     // The stored primitive p's answer in the mode: from its compact copy in balls_ when
-    // it is a ball (the same values, so the very Hit), else from prims_.
+    // it is a ball (the same values, so the very Hit), else from prims_. Called only
+    // inside closest_in_env and any_in_env, whose callers hold the environment.
     template <class Mode>
     RAYPROOF_ALWAYS_INLINE Hit<T> hit_at(const PreparedRay<T>& ray, std::size_t p, Mode mode) const noexcept {
         if (p < balls_.size()) {
             const Sphere<T>& b = balls_[p];
             if (!std::isnan(b.radius)) [[likely]]
-                return rayproof::intersect(ray, b, mode);
+                return detail::query_in_env(ray, b, mode);
         }
         return detail::bvh_intersect(ray, prims_[p], mode);
     }

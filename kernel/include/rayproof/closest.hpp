@@ -51,9 +51,11 @@ template <class T> using PrimitiveSpan = std::span<const Primitive<std::type_ide
 
 namespace detail {
 
-// The primitive's own answer in the mode (an invalid primitive answers Verdict::invalid).
+// The primitive's own answer in the mode (an invalid primitive answers Verdict::invalid),
+// in the environment closest_hit and any_hit hold: intersect()'s query without its
+// per-call read (query_in_env, intersect.hpp).
 template <class T, class Mode> Hit<T> intersect_primitive(const PreparedRay<T>& ray, const Primitive<T>& p, Mode mode) {
-    return std::visit([&](const auto& shape) { return intersect(ray, shape, mode); }, p);
+    return std::visit([&](const auto& shape) { return query_in_env(ray, shape, mode); }, p);
 }
 
 template <class T> ClosestHit<T> invalid_closest() {

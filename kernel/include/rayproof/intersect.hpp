@@ -7,12 +7,14 @@
 // floating-point environment whatever the caller's (detail/fp_env.hpp): it reads the
 // control state once per call (once per batch), and only when that differs from the
 // default does it switch, answer and restore the caller's state (a scalar query inline,
-// a batch out of line).
+// a batch out of line). The scalar forms also take an FpEnvScope as their last argument
+// (fp_env_scope.hpp): the scope has established the environment, and they do not read it.
 #pragma once
 
 #include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/fp_env.hpp>
 #include <rayproof/detail/ray_aabb_batch.hpp>
+#include <rayproof/fp_env_scope.hpp>
 #include <rayproof/prepared_ray.hpp>
 #include <rayproof/ray_aabb.hpp>
 #include <rayproof/ray_obb.hpp>
@@ -54,19 +56,6 @@ concept Answerable = is_scalar_v<T> && is_shape_v<Shape, T> && is_mode_v<Mode> &
         { detail::query(r, detail::prepare(s), m) } -> std::same_as<Hit<T>>;
     };
 
-// Inlined into the caller: the Hit then reaches the caller's variable field by field
-// (a Hit returned through memory and copied whole stalls on store-to-load forwarding).
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
-    if constexpr (detail::fp_env_guarded<Mode>)
-        return detail::in_default_fp_env_inline(
-            [](const Ray<T>& r, const Shape& s) RAYPROOF_INLINE_LAMBDA { return detail::query(r, detail::prepare(s), Mode{}); },
-            ray, shape);
-    else
-        return detail::query(ray, detail::prepare(shape), mode);
-}
-
 namespace detail {
 // The verdict alone, for shapes and modes without a verdict path of their own: the full
 // query's verdict (the rest of its answer is dead code the compiler drops where it can).
@@ -76,7 +65,72 @@ template <class R, class Prepared, class Mode>
 RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const R& r, const Prepared& p, Mode mode) noexcept {
     return query(r, p, mode).verdict;
 }
+
+// The shape's query path takes the ray R itself (always, for a Ray; for a PreparedRay
+// where the shape has a prepared path, else the prepared ray's copy of its Ray is asked).
+template <class R, class Shape, class Mode>
+concept DirectPath = requires(const R& r, const Shape& s, Mode m) { query(r, prepare(s), m); };
+template <class T, class Shape, class Mode> concept PreparedPath = DirectPath<PreparedRay<T>, Shape, Mode>;
+
+// What every scalar entry point below computes once the environment is in place: the
+// guarded forms run it inside their guard, the FpEnvScope forms inside the scope's
+// environment. Code that already holds the default environment for a whole loop (a
+// packet's scalar lanes, the BVH, the brute-force closest hit) calls these directly, so
+// its per-item answers are the entry points' bit for bit without a read per item.
+template <class R, class Shape, class Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE auto query_in_env(const R& ray, const Shape& shape, Mode mode) noexcept {
+    if constexpr (DirectPath<R, Shape, Mode>)
+        return query(ray, prepare(shape), mode);
+    else
+        return query(ray.ray(), prepare(shape), mode);
+}
+template <class R, class Shape, class Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict_in_env(const R& ray, const Shape& shape, Mode mode) noexcept {
+    if constexpr (DirectPath<R, Shape, Mode>)
+        return verdict_query(ray, prepare(shape), mode);
+    else
+        return verdict_query(ray.ray(), prepare(shape), mode);
+}
+
+// An entry point's body: Q (query_in_env or verdict_in_env, as a functor) under the
+// guard, in the scope, or plain for the fast mode.
+struct QueryInEnv {
+    template <class R, class Shape, class Mode>
+    RAYPROOF_ALWAYS_INLINE auto operator()(const R& r, const Shape& s, Mode m) const noexcept {
+        return query_in_env(r, s, m);
+    }
+};
+struct VerdictInEnv {
+    template <class R, class Shape, class Mode>
+    RAYPROOF_ALWAYS_INLINE Verdict operator()(const R& r, const Shape& s, Mode m) const noexcept {
+        return verdict_in_env(r, s, m);
+    }
+};
+template <class Q, class R, class Shape, class Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE auto guarded_entry(const R& ray, const Shape& shape, Mode mode) noexcept {
+    if constexpr (fp_env_guarded<Mode>)
+        return in_default_fp_env_inline(
+            [](const R& r, const Shape& s) RAYPROOF_INLINE_LAMBDA { return Q{}(r, s, Mode{}); }, ray, shape);
+    else
+        return Q{}(ray, shape, mode);
+}
+template <class Q, class R, class Shape, class Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE auto scoped_entry(const R& ray, const Shape& shape, Mode mode) noexcept {
+    if constexpr (fp_env_guarded<Mode>)
+        return in_fp_env_scope([](const R& r, const Shape& s) RAYPROOF_INLINE_LAMBDA { return Q{}(r, s, Mode{}); },
+                               ray, shape);
+    else
+        return Q{}(ray, shape, mode);
+}
 }  // namespace detail
+
+// Inlined into the caller: the Hit then reaches the caller's variable field by field
+// (a Hit returned through memory and copied whole stalls on store-to-load forwarding).
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
+    return detail::guarded_entry<detail::QueryInEnv>(ray, shape, mode);
+}
 
 // The verdict alone: verdict(ray, shape, mode) == intersect(ray, shape, mode).verdict
 // for every input, in every mode (a certified verdict is the exact one). It asks the
@@ -88,12 +142,7 @@ RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const R& r, const Prepared& p, Mode
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
-    if constexpr (detail::fp_env_guarded<Mode>)
-        return detail::in_default_fp_env_inline(
-            [](const Ray<T>& r, const Shape& s) RAYPROOF_INLINE_LAMBDA { return detail::verdict_query(r, detail::prepare(s), Mode{}); },
-            ray, shape);
-    else
-        return detail::verdict_query(ray, detail::prepare(shape), mode);
+    return detail::guarded_entry<detail::VerdictInEnv>(ray, shape, mode);
 }
 
 // --- Prepared rays (prepared_ray.hpp) ---------------------------------------------------
@@ -102,41 +151,48 @@ template <class T, class Shape, class Mode>
 // (detail::query on a PreparedRay: no validation per query, the Aabb's reciprocals as
 // prepared), under the same floating-point environment guard as the Ray forms; a shape
 // without such a path answers through its Ray path on the prepared ray's copy.
-namespace detail {
-// The shape's query path takes the ray R itself (always, for a Ray).
-template <class R, class Shape, class Mode>
-concept DirectPath = requires(const R& r, const Shape& s, Mode m) { query(r, prepare(s), m); };
-template <class T, class Shape, class Mode> concept PreparedPath = DirectPath<PreparedRay<T>, Shape, Mode>;
-}  // namespace detail
-
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const PreparedRay<T>& ray, const Shape& shape, Mode mode) noexcept {
-    if constexpr (!detail::PreparedPath<T, Shape, Mode>)
-        return intersect(ray.ray(), shape, mode);
-    else if constexpr (detail::fp_env_guarded<Mode>)
-        return detail::in_default_fp_env_inline(
-            [](const PreparedRay<T>& r, const Shape& s) RAYPROOF_INLINE_LAMBDA {
-                return detail::query(r, detail::prepare(s), Mode{});
-            },
-            ray, shape);
-    else
-        return detail::query(ray, detail::prepare(shape), mode);
+    return detail::guarded_entry<detail::QueryInEnv>(ray, shape, mode);
 }
 
 template <class T, class Shape, class Mode>
     requires Answerable<T, Shape, Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const PreparedRay<T>& ray, const Shape& shape, Mode mode) noexcept {
-    if constexpr (!detail::PreparedPath<T, Shape, Mode>)
-        return verdict(ray.ray(), shape, mode);
-    else if constexpr (detail::fp_env_guarded<Mode>)
-        return detail::in_default_fp_env_inline(
-            [](const PreparedRay<T>& r, const Shape& s) RAYPROOF_INLINE_LAMBDA {
-                return detail::verdict_query(r, detail::prepare(s), Mode{});
-            },
-            ray, shape);
-    else
-        return detail::verdict_query(ray, detail::prepare(shape), mode);
+    return detail::guarded_entry<detail::VerdictInEnv>(ray, shape, mode);
+}
+
+// --- In an FpEnvScope (fp_env_scope.hpp) ------------------------------------------------
+// The same answers as the forms above, bit for bit in every mode, without the per-call
+// read of the control state: the scope has established the default environment (and,
+// checked where RAYPROOF_CHECK_FP_ENV_SCOPE is defined or NDEBUG is not, still finds it).
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode,
+                                                      const FpEnvScope&) noexcept {
+    return detail::scoped_entry<detail::QueryInEnv>(ray, shape, mode);
+}
+
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mode mode,
+                                                     const FpEnvScope&) noexcept {
+    return detail::scoped_entry<detail::VerdictInEnv>(ray, shape, mode);
+}
+
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const PreparedRay<T>& ray, const Shape& shape, Mode mode,
+                                                      const FpEnvScope&) noexcept {
+    return detail::scoped_entry<detail::QueryInEnv>(ray, shape, mode);
+}
+
+template <class T, class Shape, class Mode>
+    requires Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const PreparedRay<T>& ray, const Shape& shape, Mode mode,
+                                                     const FpEnvScope&) noexcept {
+    return detail::scoped_entry<detail::VerdictInEnv>(ray, shape, mode);
 }
 
 // --- Batch forms ------------------------------------------------------------------------
@@ -222,6 +278,19 @@ template <template <class> class R, class T, class Shape>
     requires detail::RayOrPrepared<R<T>, T> && AnswerableAtRunTime<T, Shape>
 [[nodiscard]] Verdict verdict(const R<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {
     return with_mode(mode, [&](auto tag) { return verdict(ray, shape, tag); }, [] { return Verdict::invalid; });
+}
+
+template <template <class> class R, class T, class Shape>
+    requires detail::RayOrPrepared<R<T>, T> && AnswerableAtRunTime<T, Shape>
+[[nodiscard]] Hit<T> intersect(const R<T>& ray, const Shape& shape, RuntimeMode mode, const FpEnvScope& scope) noexcept {
+    return with_mode(
+        mode, [&](auto tag) { return intersect(ray, shape, tag, scope); }, [] { return detail::invalid_hit<T>(); });
+}
+
+template <template <class> class R, class T, class Shape>
+    requires detail::RayOrPrepared<R<T>, T> && AnswerableAtRunTime<T, Shape>
+[[nodiscard]] Verdict verdict(const R<T>& ray, const Shape& shape, RuntimeMode mode, const FpEnvScope& scope) noexcept {
+    return with_mode(mode, [&](auto tag) { return verdict(ray, shape, tag, scope); }, [] { return Verdict::invalid; });
 }
 
 // Batch forms; the same precondition, checked the same way, as the tag forms.

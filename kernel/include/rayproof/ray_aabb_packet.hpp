@@ -69,7 +69,10 @@
 //            ray with some |d_i| >= 2^1022 (1/d_i subnormal: the bound fails) goes to the
 //            scalar query in every lane, as do conservative lanes whose values overflow.
 // Environment: the conservative and certified forms answer in the default
-//            floating-point environment whatever the caller's (detail/fp_env.hpp).
+//            floating-point environment whatever the caller's (detail/fp_env.hpp),
+//            read once per packet (the lanes' scalar queries run inside it:
+//            detail::query_in_env, no read of their own), or not at all in the
+//            forms that take an FpEnvScope (fp_env_scope.hpp).
 // No allocation, no exception.
 #pragma once
 
@@ -77,6 +80,7 @@
 #include <rayproof/detail/fp_env.hpp>
 #include <rayproof/detail/rounding.hpp>
 #include <rayproof/detail/simd.hpp>
+#include <rayproof/fp_env_scope.hpp>
 #include <rayproof/intersect.hpp>
 #include <rayproof/prepared_ray.hpp>
 #include <rayproof/ray_aabb.hpp>
@@ -316,7 +320,7 @@ RAYPROOF_ALWAYS_INLINE PacketHit<T, W> conservative(const PreparedRay<T>& pr, co
     if (!pr.valid()) return h;
     if (!all_axes_usable<double>(pr)) {
         for (int i = 0; i < W; ++i)
-            if (valid(b.box(i))) put(h, i, rayproof::intersect(pr, b.box(i), rayproof::conservative));
+            if (valid(b.box(i))) put(h, i, query_in_env(pr, b.box(i), rayproof::conservative));
         return h;
     }
     const Filtered<double, B, T, W> f = filter<double, B, true>(pr, b);
@@ -337,7 +341,7 @@ RAYPROOF_ALWAYS_INLINE PacketHit<T, W> conservative(const PreparedRay<T>& pr, co
     // Lanes whose values overflowed: the scalar conservative query.
     for (std::uint32_t u = simd::and_not(f.ok, f.finite).bits(); u != 0; u &= u - 1) {
         const int i = std::countr_zero(u);
-        put(h, i, rayproof::intersect(pr, b.box(i), rayproof::conservative));
+        put(h, i, query_in_env(pr, b.box(i), rayproof::conservative));
     }
     return h;
 }
@@ -382,7 +386,7 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t certified_verdict(const PreparedRay<T>& pr,
     std::uint32_t mask = d.hit;
     for (std::uint32_t u = d.undecided; u != 0; u &= u - 1) {
         const int i = std::countr_zero(u);
-        mask |= std::uint32_t(rayproof::verdict(pr, b.box(i), rayproof::certified) == Verdict::hit) << i;
+        mask |= std::uint32_t(verdict_in_env(pr, b.box(i), rayproof::certified) == Verdict::hit) << i;
     }
     return mask;
 }
@@ -396,7 +400,7 @@ RAYPROOF_ALWAYS_INLINE PacketHit<T, W> certified_intersect(const PreparedRay<T>&
     const Decided d = certified_filter<B>(pr, b);
     for (std::uint32_t u = d.hit | d.undecided; u != 0; u &= u - 1) {
         const int i = std::countr_zero(u);
-        put(h, i, rayproof::intersect(pr, b.box(i), rayproof::certified));
+        put(h, i, query_in_env(pr, b.box(i), rayproof::certified));
     }
     return h;
 }
@@ -415,32 +419,41 @@ template <class B, class T, int W>
                                                                       const AabbPacket<T, W>& b, fast_t) noexcept {
     return packet::fast<B, true>(pr, b);
 }
+// The guarded modes' packet work itself, for a caller that has established the
+// environment (the scoped forms below; the forms without a scope wrap it in the guard).
 template <class B, class T, int W>
-[[nodiscard]] inline std::uint32_t packet_verdict(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
-                                                  conservative_t) noexcept {
-    return in_default_fp_env([](const PreparedRay<T>& r, const AabbPacket<T, W>& p) noexcept {
-        return packet::conservative<B, false>(r, p).mask;
-    }, pr, b);
+RAYPROOF_ALWAYS_INLINE std::uint32_t packet_verdict_in_env(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
+                                                          conservative_t) noexcept {
+    return packet::conservative<B, false>(pr, b).mask;
 }
 template <class B, class T, int W>
-[[nodiscard]] inline PacketHit<T, W> packet_intersect(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
-                                                      conservative_t) noexcept {
-    return in_default_fp_env([](const PreparedRay<T>& r, const AabbPacket<T, W>& p) noexcept {
-        return packet::conservative<B, true>(r, p);
-    }, pr, b);
+RAYPROOF_ALWAYS_INLINE PacketHit<T, W> packet_intersect_in_env(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
+                                                              conservative_t) noexcept {
+    return packet::conservative<B, true>(pr, b);
 }
 template <class B, class T, int W>
-[[nodiscard]] inline std::uint32_t packet_verdict(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
-                                                  certified_t) noexcept {
+RAYPROOF_ALWAYS_INLINE std::uint32_t packet_verdict_in_env(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
+                                                          certified_t) noexcept {
+    return packet::certified_verdict<B>(pr, b);
+}
+template <class B, class T, int W>
+RAYPROOF_ALWAYS_INLINE PacketHit<T, W> packet_intersect_in_env(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
+                                                              certified_t) noexcept {
+    return packet::certified_intersect<B>(pr, b);
+}
+// The guarded modes: their packet work in the default environment (detail/fp_env.hpp).
+template <class B, class T, int W, class Mode>
+    requires fp_env_guarded<Mode>
+[[nodiscard]] inline std::uint32_t packet_verdict(const PreparedRay<T>& pr, const AabbPacket<T, W>& b, Mode) noexcept {
     return in_default_fp_env([](const PreparedRay<T>& r, const AabbPacket<T, W>& p)
-                                 noexcept { return packet::certified_verdict<B>(r, p); },
+                                 noexcept { return packet_verdict_in_env<B>(r, p, Mode{}); },
                              pr, b);
 }
-template <class B, class T, int W>
-[[nodiscard]] inline PacketHit<T, W> packet_intersect(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
-                                                      certified_t) noexcept {
+template <class B, class T, int W, class Mode>
+    requires fp_env_guarded<Mode>
+[[nodiscard]] inline PacketHit<T, W> packet_intersect(const PreparedRay<T>& pr, const AabbPacket<T, W>& b, Mode) noexcept {
     return in_default_fp_env([](const PreparedRay<T>& r, const AabbPacket<T, W>& p)
-                                 noexcept { return packet::certified_intersect<B>(r, p); },
+                                 noexcept { return packet_intersect_in_env<B>(r, p, Mode{}); },
                              pr, b);
 }
 
@@ -460,5 +473,37 @@ template <class T, int W, class Mode>
 [[nodiscard]] inline PacketHit<T, W> intersect(const PreparedRay<T>& ray, const AabbPacket<T, W>& boxes, Mode mode) noexcept {
     return detail::packet_intersect<detail::simd::native>(ray, boxes, mode);
 }
+
+// In an FpEnvScope (fp_env_scope.hpp): the same answers, without the per-call read of the
+// control state. The packet's work is a few ns; on processors where that read costs as
+// much, this is the form for a BVH's inner loop.
+template <class T, int W, class Mode>
+    requires is_mode_v<Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE std::uint32_t verdict(const PreparedRay<T>& ray, const AabbPacket<T, W>& boxes,
+                                                           Mode mode, const FpEnvScope&) noexcept {
+    if constexpr (detail::fp_env_guarded<Mode>)
+        return detail::in_fp_env_scope(
+            [](const PreparedRay<T>& r, const AabbPacket<T, W>& p) RAYPROOF_INLINE_LAMBDA {
+                return detail::packet_verdict_in_env<detail::simd::native>(r, p, Mode{});
+            },
+            ray, boxes);
+    else
+        return detail::packet_verdict<detail::simd::native>(ray, boxes, mode);
+}
+
+template <class T, int W, class Mode>
+    requires is_mode_v<Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE PacketHit<T, W> intersect(const PreparedRay<T>& ray, const AabbPacket<T, W>& boxes,
+                                                               Mode mode, const FpEnvScope&) noexcept {
+    if constexpr (detail::fp_env_guarded<Mode>)
+        return detail::in_fp_env_scope(
+            [](const PreparedRay<T>& r, const AabbPacket<T, W>& p) RAYPROOF_INLINE_LAMBDA {
+                return detail::packet_intersect_in_env<detail::simd::native>(r, p, Mode{});
+            },
+            ray, boxes);
+    else
+        return detail::packet_intersect<detail::simd::native>(ray, boxes, mode);
+}
+
 
 }  // namespace rayproof

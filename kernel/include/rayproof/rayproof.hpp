@@ -14,6 +14,7 @@
 
 #include <rayproof/bvh.hpp>
 #include <rayproof/closest.hpp>
+#include <rayproof/fp_env_scope.hpp>
 #include <rayproof/intersect.hpp>
 #include <rayproof/io.hpp>
 #include <rayproof/normal.hpp>

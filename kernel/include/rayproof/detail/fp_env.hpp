@@ -88,6 +88,8 @@
 #include <rayproof/types.hpp>
 
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <type_traits>
 
 #if defined(__SSE2__) || defined(_M_X64) || defined(_M_AMD64) || (defined(_M_IX86_FP) && _M_IX86_FP >= 2)
@@ -270,6 +272,77 @@ template <class F, class R, class S>
     if (foreign) [[unlikely]]
         fp_env_leave(saved, result);
     return result;
+#endif
+}
+
+// The scalar and packet queries in an FpEnvScope (rayproof/fp_env_scope.hpp): the scope
+// has established the default environment, so the query does not read the control
+// state. Where the environment may have been switched by the scope's constructor, the
+// query's arithmetic must still not be moved before that switch nor after the restore of
+// its destructor: the input pointers are laundered by a volatile asm statement (loads
+// through them come after it; volatile asm statements keep their order, and the scope's
+// switch is one), and the result is made an in-out operand of another (computed before
+// it, and so before the scope's restore). Neither has a "memory" clobber: nothing else
+// of the caller's needs to stay on one side. Without GNU asm the fences are not
+// available and the query takes the per-call guard instead (the same answers).
+// RAYPROOF_CHECK_FP_ENV_SCOPE (or a build without NDEBUG) checks the scope's
+// precondition at every such query: the control state is the default, else the program
+// stops with a message (std::abort), as an assert would.
+#if (defined(RAYPROOF_FP_ENV_MXCSR) || defined(RAYPROOF_FP_ENV_FPCR)) && (defined(__GNUC__) || defined(__clang__))
+#define RAYPROOF_FP_ENV_SCOPE_FENCED 1
+#endif
+#if defined(RAYPROOF_CHECK_FP_ENV_SCOPE) || !defined(NDEBUG)
+[[noreturn, gnu::cold, gnu::noinline]] inline void fp_env_scope_broken() noexcept {
+    std::fputs("rayproof: a query was given an FpEnvScope, but the floating-point environment is not the "
+               "default one: it was changed inside the scope, or the scope belongs to another thread\n",
+               stderr);
+    std::abort();
+}
+#endif
+RAYPROOF_ALWAYS_INLINE void fp_env_scope_check() noexcept {
+#if !defined(RAYPROOF_NO_FP_ENV_GUARD) && (defined(RAYPROOF_CHECK_FP_ENV_SCOPE) || !defined(NDEBUG))
+    if (!fp_env_is_default()) [[unlikely]]
+        fp_env_scope_broken();
+#endif
+}
+#if defined(RAYPROOF_FP_ENV_SCOPE_FENCED)
+template <class A, class B> RAYPROOF_ALWAYS_INLINE void fp_env_scope_launder(const A*& a, const B*& b) noexcept {
+    __asm__ volatile("" : "+r"(a), "+r"(b));
+}
+template <class T> RAYPROOF_ALWAYS_INLINE void fp_env_scope_pin(Hit<T>& h) noexcept {
+    int v = static_cast<int>(h.verdict);
+#if defined(RAYPROOF_FP_ENV_MXCSR)
+    __asm__ volatile("" : "+x"(h.t_enter), "+x"(h.t_exit), "+r"(h.face), "+r"(v));
+#else
+    __asm__ volatile("" : "+w"(h.t_enter), "+w"(h.t_exit), "+r"(h.face), "+r"(v));
+#endif
+    h.verdict = static_cast<Verdict>(v);
+}
+RAYPROOF_ALWAYS_INLINE void fp_env_scope_pin(Verdict& verdict) noexcept {
+    int v = static_cast<int>(verdict);
+    __asm__ volatile("" : "+r"(v));
+    verdict = static_cast<Verdict>(v);
+}
+RAYPROOF_ALWAYS_INLINE void fp_env_scope_pin(std::uint32_t& mask) noexcept { __asm__ volatile("" : "+r"(mask)); }
+// Any other result (a packet's PacketHit): through memory.
+template <class X> RAYPROOF_ALWAYS_INLINE void fp_env_scope_pin(X& x) noexcept { __asm__ volatile("" : "+m"(x)); }
+#endif
+
+// f(ray, shape) in an FpEnvScope: no read of the control state (the fences above).
+template <class F, class R, class S>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE auto in_fp_env_scope(F f, const R& ray, const S& shape) noexcept {
+#if defined(RAYPROOF_NO_FP_ENV_GUARD)
+    return f(ray, shape);
+#elif defined(RAYPROOF_FP_ENV_SCOPE_FENCED)
+    fp_env_scope_check();
+    const R* r = &ray;
+    const S* s = &shape;
+    fp_env_scope_launder(r, s);
+    auto result = f(*r, *s);
+    fp_env_scope_pin(result);
+    return result;
+#else
+    return in_default_fp_env(f, ray, shape);
 #endif
 }
 
