@@ -10,6 +10,10 @@
 //                                            is what intersect() compiles to with
 //                                            RAYPROOF_NO_FP_ENV_GUARD), b: intersect(), in
 //                                            the default environment
+//   fpenv/<shape>/<type>/<mode>/scope        a: intersect() in the default environment,
+//                                            b: intersect(..., scope), the form that takes
+//                                            an FpEnvScope (fp_env_scope.hpp), the scope
+//                                            made once around every pass
 //   fpenv/<shape>/<type>/<mode>/foreign      a: intersect() in the default environment,
 //                                            b: intersect() with the caller in a foreign
 //                                            environment (x86: MXCSR FTZ+DAZ, as Embree's
@@ -67,15 +71,17 @@ template <class T> double median(std::vector<T>& v) {
 
 // a and b in pairs over the first n uniform cases; b runs in the foreign environment
 // when `foreign` is set.
-template <class T, class Shape, class A, class B>
-void time_env_pair(benchmark::State& st, const std::string& key, A a, B b, bool foreign) {
+// b_check stands for b in the watchdog's check pass, which runs on another thread (b
+// itself may hold the timing thread's FpEnvScope).
+template <class T, class Shape, class A, class B, class C>
+void time_env_pair(benchmark::State& st, const std::string& key, A a, B b, bool foreign, C b_check) {
     const auto& all = timed_cases<T, Shape>("uniform");
     const std::size_t n = std::min(options().cases, all.size());
     if (!passes_watchdog(st, key + "#a", n, [&](std::size_t i) { benchmark::DoNotOptimize(a(all[i].ray, all[i].shape)); }))
         return;
     if (!passes_watchdog(st, key + "#b", n, [&](std::size_t i) {
             if (foreign) enter_foreign();
-            benchmark::DoNotOptimize(b(all[i].ray, all[i].shape));
+            benchmark::DoNotOptimize(b_check(all[i].ray, all[i].shape));
             if (foreign) leave_foreign();
         }))
         return;
@@ -110,18 +116,26 @@ void time_env_pair(benchmark::State& st, const std::string& key, A a, B b, bool 
 
 template <class T, class Shape, class Mode> void register_mode() {
     const std::string mode = mode_name(Mode{});
+    const auto per_call = [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, Mode{}); };
     const std::string guard = bench_name<T, Shape>("fpenv", mode, "guard");
-    benchmark::RegisterBenchmark(guard.c_str(), [guard](benchmark::State& st) {
+    benchmark::RegisterBenchmark(guard.c_str(), [guard, per_call](benchmark::State& st) {
         time_env_pair<T, Shape>(
             st, guard,
             [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return rayproof::detail::query(r, rayproof::detail::prepare(s), Mode{}); },
-            [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, Mode{}); }, false);
+            per_call, false, per_call);
     });
     const std::string foreign = bench_name<T, Shape>("fpenv", mode, "foreign");
-    benchmark::RegisterBenchmark(foreign.c_str(), [foreign](benchmark::State& st) {
+    benchmark::RegisterBenchmark(foreign.c_str(), [foreign, per_call](benchmark::State& st) {
+        time_env_pair<T, Shape>(st, foreign, per_call, per_call, true, per_call);
+    });
+    const std::string scope = bench_name<T, Shape>("fpenv", mode, "scope");
+    benchmark::RegisterBenchmark(scope.c_str(), [scope, per_call](benchmark::State& st) {
+        const FpEnvScope env;  // on the timing thread, around every pass, as a caller's loop would hold it
+        const FpEnvScope* e = &env;
         time_env_pair<T, Shape>(
-            st, foreign, [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, Mode{}); },
-            [](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, Mode{}); }, true);
+            st, scope, per_call,
+            [e](const Ray<T>& r, const Shape& s) RAYPROOF_BENCH_INLINE { return intersect(r, s, Mode{}, *e); }, false,
+            per_call);
     });
 }
 

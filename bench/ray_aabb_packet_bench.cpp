@@ -125,6 +125,22 @@ template <class T, int W> void BM_packet_verdict_certified_unguarded(benchmark::
     set_counters<W>(state, hits);
 }
 
+// The certified verdict in an FpEnvScope (fp_env_scope.hpp): the scope made once, outside
+// the loop, as an embedder's BVH traversal would; each packet query then reads no control
+// state.
+template <class T, int W> void BM_packet_verdict_certified_scoped(benchmark::State& state) {
+    const auto& w = Workload<T, W>::get();
+    std::uint64_t hits = 0;
+    const FpEnvScope env;
+    for (auto _ : state)
+        for (int k = 0; k < kN; ++k) {
+            const std::uint32_t m = verdict(w.rays[std::size_t(k)], w.packets[std::size_t(k)], certified, env);
+            benchmark::DoNotOptimize(m);
+            hits += std::uint64_t(std::popcount(m));
+        }
+    set_counters<W>(state, hits);
+}
+
 template <class T, int W> void BM_packet_intersect_certified(benchmark::State& state) {
     const auto& w = Workload<T, W>::get();
     std::uint64_t hits = 0;
@@ -257,6 +273,7 @@ BENCHMARK(BM_embree_intersect8);
     BENCHMARK(BM_packet_verdict<T, W, fast_t>);                              \
     BENCHMARK(BM_packet_verdict<T, W, certified_t>);                         \
     BENCHMARK(BM_packet_verdict_certified_unguarded<T, W>);                  \
+    BENCHMARK(BM_packet_verdict_certified_scoped<T, W>);                     \
     BENCHMARK(BM_packet_intersect_certified<T, W>);
 RAYPROOF_PACKET_BENCH(float, 8)
 RAYPROOF_PACKET_BENCH(double, 4)

@@ -434,8 +434,9 @@ std::string packets_table(const Report& r) {
     };
     std::string o = row({"type", "W", "branch-free SoA loop", "fast verdict", "fast / loop (≤ 1.25)",
                          "certified verdict", "certified / loop (≤ 2)", "certified verdict, no guard",
+                         "certified verdict, in an FpEnvScope", "scoped / loop",
                          "certified intersect", "certified verdict / float's (≤ 2)"}) +
-                    rule(2, 8);
+                    rule(2, 10);
     const auto mode_ns = [&](const std::string& type, int w, const char* mode) {
         const auto it = r.packet_ns.find(fmt::format("BM_packet_verdict<{}, {}, {}_t>", type, w, mode));
         return it == r.packet_ns.end() ? NAN : it->second;
@@ -444,8 +445,10 @@ std::string packets_table(const Report& r) {
     for (const auto& [type, w] : std::vector<std::pair<std::string, int>>{{"float", 8}, {"double", 4}, {"double", 8}}) {
         const double loop = ns("BM_soa_slab", type, w), fast = mode_ns(type, w, "fast");
         const double cert = mode_ns(type, w, "certified");
+        const double scoped = ns("BM_packet_verdict_certified_scoped", type, w);
         o += row({type, std::to_string(w), num(loop), num(fast), over(fast / loop, 1.25), num(cert),
                   over(cert / loop, 2), num(ns("BM_packet_verdict_certified_unguarded", type, w)),
+                  num(scoped), std::isnan(scoped / loop) ? std::string("—") : num(scoped / loop, 3) + "×",
                   num(ns("BM_packet_intersect_certified", type, w)),
                   type == "double" && w == 8 ? over(cert / float_cert, 2) : "—"});
     }
@@ -648,21 +651,23 @@ std::string batch_table(const Report& r) {
 // difference, and the query called from a foreign environment.
 std::string fp_env_table(const Report& r) {
     std::string o = row({"shape", "type", "mode", "guard off", "guard, default", "cost", "× guard off", "foreign",
-                         "foreign cost"}) +
-                    rule(3, 6);
+                         "foreign cost", "in an FpEnvScope", "scope / guard, default"}) +
+                    rule(3, 8);
     bool any = false;
     for (const auto& s : kShapes)
         for (const auto& t : kTypes)
             for (const char* m : {"certified", "conservative"}) {
                 const auto g = r.timing.find("fpenv/" + s + "/" + t + "/" + m + "/guard");
                 const auto f = r.timing.find("fpenv/" + s + "/" + t + "/" + m + "/foreign");
-                if (g == r.timing.end() && f == r.timing.end()) continue;
+                const auto c = r.timing.find("fpenv/" + s + "/" + t + "/" + m + "/scope");
+                if (g == r.timing.end() && f == r.timing.end() && c == r.timing.end()) continue;
                 any = true;
                 const Timing none;
                 const Timing& gt = g == r.timing.end() ? none : g->second;
                 const Timing& ft = f == r.timing.end() ? none : f->second;
+                const Timing& ct = c == r.timing.end() ? none : c->second;
                 o += row({kShapeLabel.at(s), t, m, num(gt.a_ns), num(gt.b_ns), num(gt.delta_ns, 2), num(gt.ratio),
-                          num(ft.b_ns), num(ft.delta_ns)});
+                          num(ft.b_ns), num(ft.delta_ns), num(ct.b_ns), num(ct.ratio)});
             }
     if (!any) return prose()("fp_env.none");
     const bool x86 = r.context.is_object() && r.context.value("fp_env_x86", std::string("1")) == "1";
