@@ -1,9 +1,12 @@
 // The branch-free helpers of detail/rounding.hpp and detail/certified.hpp that every
 // mode's answer passes through: pick and pick_int (a select without a jump), the ordered
-// keys float_key / key_float, and the outward roundings round_down_to / round_up_to of a
-// double enclosure end to T. Each is checked against a definition written another way
-// (std::nextafter, comparisons, the step_up / step_down it must agree with), over float
-// and double, on the special values (signed zeros, subnormals, the largest finite value,
+// keys float_key / key_float, the outward roundings round_down_to / round_up_to of a
+// double enclosure end to T, outward_to (both ends of an enclosure rounded outward and
+// clamped to [t_min, t_max], with its verdict `meets`) and nearest_float (the float
+// nearest every value of an enclosure, where its ends round alike). Each is checked
+// against a definition written another way (std::nextafter, comparisons, the step_up /
+// step_down it must agree with, the nearest float found by distance), over float and
+// double, on the special values (signed zeros, subnormals, the largest finite value,
 // infinities, NaN) and on seeded random values spanning every binade.
 #include "seeded.hpp"
 

@@ -127,6 +127,18 @@ RAYPROOF_ALWAYS_INLINE Pinned<float> obb_nearest_float(const Ray<T>& r, const Ob
     return nearest_float(t - e, t + e, ok);
 }
 
+// Slab value (i, side) faithfully rounded to T where the straight-line steps can vouch
+// for it: for float the nearest float from its enclosure (obb_nearest_float), else
+// pin_quotient's candidate (for float the faithful double rounded to nearest). Both paths
+// round their winners with it (obb_certified_common, ObbFrame::faithful), so they answer
+// alike bit for bit; not ok leaves the value to what each path does next.
+template <class T> RAYPROOF_ALWAYS_INLINE Pinned<T> obb_pinned_value(const Ray<T>& r, const Obb<T>& b, int i, int side) {
+    if constexpr (std::is_same_v<T, float>)
+        if (const Pinned<float> f = obb_nearest_float(r, b, i, side); f.ok) return f;
+    const PinnedQuotient x = pin_quotient(obb_slab_sums(r, b, i, side));
+    return {faithful_to<T>(x.c), x.pinned};
+}
+
 // The slab frame of an oriented box: o'_i = (o - c)·a_i, d'_i = d·a_i, slab
 // [-h_i, h_i]; value (±h_i - o'_i)/d'_i.
 template <class T> class ObbFrame {
@@ -212,9 +224,7 @@ public:
     // pin_quotient (for float the faithful double rounded to nearest); next from the
     // interval when it pins one float, else exactly.
     T faithful(int i, int side, const Interval<double>& v, bool& went_exact) const {
-        if constexpr (std::is_same_v<T, float>)
-            if (const Pinned<float> f = obb_nearest_float(*r_, *b_, i, side); f.ok) return f.t;
-        if (const PinnedQuotient x = pin_quotient(obb_slab_sums(*r_, *b_, i, side)); x.pinned) return faithful_to<T>(x.c);
+        if (const Pinned<T> x = obb_pinned_value(*r_, *b_, i, side); x.ok) return x.t;
         if (const std::optional<T> t = faithful_from_enclosure<T>(v)) return *t;
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, i, side);
@@ -403,21 +413,14 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_certified_common(const Ray<T>& 
     if (!hit) return out;
     T t_enter = r.t_min, t_exit = r.t_max;
     const int side_in = (negative >> w) & 1, side_out = 1 - ((negative >> v) & 1);
-    // Each winner rounded as the general path rounds it (ObbFrame::faithful): for float
-    // to the nearest float where its enclosure allows, else by pin_quotient.
-    const auto rounded_value = [&](int axis, int side) -> Pinned<T> {
-        if constexpr (std::is_same_v<T, float>)
-            if (const Pinned<float> f = obb_nearest_float(r, b, axis, side); f.ok) return f;
-        const PinnedQuotient x = pin_quotient(obb_slab_sums(r, b, axis, side));
-        return {faithful_to<T>(x.c), x.pinned};
-    };
+    // Each winner rounded as the general path rounds it (obb_pinned_value, ObbFrame::faithful).
     if (axis_wins & 1) {
-        const Pinned<T> x = rounded_value(w, side_in);
+        const Pinned<T> x = obb_pinned_value(r, b, w, side_in);
         if (!x.ok) return std::nullopt;
         t_enter = x.t;
     }
     if (axis_wins & 2) {
-        const Pinned<T> x = rounded_value(v, side_out);
+        const Pinned<T> x = obb_pinned_value(r, b, v, side_out);
         if (!x.ok) return std::nullopt;
         t_exit = x.t;
     }

@@ -303,7 +303,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlaneSums plane_sums(const Ray<T>& r, 
     return {num, den, rounded(K * sn) + eta, rounded(K * sd) + eta};
 }
 struct PlaneEnclosure {
-    double t, lo, hi;  // t~ and [lo, hi], which holds t when ok
+    double lo, hi;     // [fl(t~ - E), fl(t~ + E)], which holds t when ok
     bool ok;           // E finite, e_D <= 2^-20|D~|, |inv| in [2^-1022, max]
 };
 RAYPROOF_ALWAYS_INLINE PlaneEnclosure plane_enclosure(const PlaneSums& x) {
@@ -314,7 +314,7 @@ RAYPROOF_ALWAYS_INLINE PlaneEnclosure plane_enclosure(const PlaneSums& x) {
     const double bound = 2 * (rounded(x.en * ai) + rounded(std::abs(t) * rel)) + eta;
     const bool ok = int(x.ed <= 0x1p-20 * std::abs(x.den)) & int(ai >= std::numeric_limits<double>::min()) &
                     int(ai <= big) & int(bound <= big);  // false for NaN; a finite bound needs a finite t
-    return {t, rounded(t - bound), rounded(t + bound), ok};
+    return {rounded(t - bound), rounded(t + bound), ok};
 }
 
 // The certified float answer from the enclosure: t rounded to the nearest float where
@@ -367,6 +367,11 @@ public:
             const Pinned<float> f = plane_nearest_float(plane_enclosure(plane_sums(*r_, *p_)));
             if (f.ok) return f.t;
         }
+        return faithful_after_nearest(t, went_exact);
+    }
+    // The same from its second step on: for a caller that tried plane_nearest_float
+    // itself (poly_faithful), which would otherwise compute the enclosure twice.
+    T faithful_after_nearest(const Interval<double>& t, bool& went_exact) const {
         const PlanePin x = plane_pin(*r_, *p_);
         if (x.pinned) return faithful_to<T>(x.c);
         if (x.zero) return T(0);

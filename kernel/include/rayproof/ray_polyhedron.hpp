@@ -313,7 +313,8 @@ static_assert(ExactQuotients<AxisCrossing<float>> && ExactQuotients<AxisCrossing
 // pinned candidate, else the interval when it pins one float, else exact),
 // so that a one-plane polyhedron and the plane agree on t. For float the nearest float
 // is tried here before the crossing's intervals are built (the same first step, so the
-// same answer: the intervals cost more than the rest of a winner's rounding).
+// same answer: the intervals cost more than the rest of a winner's rounding), and the
+// crossing then goes on from its second step (faithful_after_nearest).
 template <class T>
 T poly_faithful(const Ray<T>& r, const Plane<T>& p, const PolySource<T>& src, const Interval<double>& v,
                 bool& went_exact) {
@@ -329,7 +330,7 @@ T poly_faithful(const Ray<T>& r, const Plane<T>& p, const PolySource<T>& src, co
     }
     if constexpr (std::is_same_v<T, float>)
         if (const Pinned<float> f = plane_nearest_float(plane_enclosure(plane_sums(r, p))); f.ok) return f.t;
-    return PlaneCrossing<T>(r, p).faithful(v, went_exact);
+    return PlaneCrossing<T>(r, p).faithful_after_nearest(v, went_exact);
 }
 
 // The exact sign of den_k from its bound, else exactly; the same for num_k.
