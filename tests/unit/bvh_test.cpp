@@ -727,15 +727,19 @@ template <class T, int W> void check_foreign_env(unsigned csr_bits, int round) {
             got.push_back(away.closest_hit(r, certified));
             cons.push_back(away.closest_hit(r, conservative));
         }
+        const unsigned csr_before_scope = _mm_getcsr();
         {
             const FpEnvScope scope;
+            EXPECT_TRUE(scope.switched()) << "the environment made here is foreign";
             for (const Ray<T>& r : rays) scoped_candidates.push_back(candidates_of(r, &scope));
         }
         const unsigned csr_after_scope = _mm_getcsr();
         std::fesetround(saved_round);
         _mm_setcsr(saved);
-        EXPECT_EQ(csr_after_scope & 0xFFC0u, (saved | csr_bits | (round == FE_UPWARD ? 0x4000u : round == FE_DOWNWARD ? 0x2000u : 0u)) & 0xFFC0u)
+        // The control bits (6-15: DAZ, masks, rounding, FTZ) as the scope found them.
+        EXPECT_EQ(csr_after_scope & 0xFFC0u, csr_before_scope & 0xFFC0u)
             << "the FpEnvScope did not restore the caller's control state";
+        EXPECT_NE(csr_before_scope & 0xFFC0u, 0x1F80u) << "the caller's environment is foreign";
         EXPECT_EQ(scoped_candidates, ref_candidates) << "for_each_candidate in an FpEnvScope";
         SCOPED_TRACE("scale " + std::to_string(scale));
         ASSERT_EQ(home.nodes().size(), away.nodes().size());

@@ -200,21 +200,6 @@ template <class T> RAYPROOF_ALWAYS_INLINE T bvh_select(bool take_a, T a, T b) no
     return std::bit_cast<T>(U((std::bit_cast<U>(a) & m) | (std::bit_cast<U>(b) & U(~m))));
 }
 
-// One primitive's answer in the mode, with the caller's prepared ray (so the very Hit
-// brute force gets), inside the traversal's environment (closest_hit and any_hit hold
-// it): the entry point's query without its per-call read (detail::query_in_env).
-template <class T, class Mode>
-RAYPROOF_ALWAYS_INLINE Hit<T> bvh_intersect(const PreparedRay<T>& ray, const Primitive<T>& p, Mode mode) noexcept {
-    switch (p.index()) {
-        case 0: return query_in_env(ray, *std::get_if<0>(&p), mode);
-        case 1: return query_in_env(ray, *std::get_if<1>(&p), mode);
-        case 2: return query_in_env(ray, *std::get_if<2>(&p), mode);
-        case 3: return query_in_env(ray, *std::get_if<3>(&p), mode);
-        case 4: return query_in_env(ray, *std::get_if<4>(&p), mode);
-        default: return invalid_hit<T>();  // valueless: not a primitive
-    }
-}
-
 // The box a Bvh files a primitive under: enclosing_box, and only when every bound is
 // finite with lo <= hi (anything else is kept beside the tree, which is always safe).
 template <class T> std::optional<Aabb<T>> bvh_box(const Primitive<T>& p) {
@@ -573,7 +558,7 @@ private:
             if (!std::isnan(b.radius)) [[likely]]
                 return detail::query_in_env(ray, b, mode);
         }
-        return detail::bvh_intersect(ray, prims_[p], mode);
+        return detail::intersect_primitive(ray, prims_[p], mode);
     }
     static constexpr std::size_t stack_capacity = std::size_t(detail::bvh_max_depth + 1) * std::size_t(W);
 

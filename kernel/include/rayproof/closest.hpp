@@ -51,11 +51,22 @@ template <class T> using PrimitiveSpan = std::span<const Primitive<std::type_ide
 
 namespace detail {
 
-// The primitive's own answer in the mode (an invalid primitive answers Verdict::invalid),
-// in the environment closest_hit and any_hit hold: intersect()'s query without its
-// per-call read (query_in_env, intersect.hpp).
-template <class T, class Mode> Hit<T> intersect_primitive(const PreparedRay<T>& ray, const Primitive<T>& p, Mode mode) {
-    return std::visit([&](const auto& shape) { return query_in_env(ray, shape, mode); }, p);
+// The primitive's own answer in the mode (an invalid primitive answers Verdict::invalid,
+// and so does a variant left valueless by an exception), in the environment the caller
+// holds (closest_hit and any_hit here, the BVH's traversal in bvh.hpp): intersect()'s
+// query without its per-call read (query_in_env, intersect.hpp). A switch over the
+// alternatives rather than std::visit, so that it inlines into the traversal loop.
+template <class T, class Mode>
+RAYPROOF_ALWAYS_INLINE Hit<T> intersect_primitive(const PreparedRay<T>& ray, const Primitive<T>& p, Mode mode) noexcept {
+    static_assert(std::variant_size_v<Primitive<T>> == 5, "one case per alternative of Primitive");
+    switch (p.index()) {
+        case 0: return query_in_env(ray, *std::get_if<0>(&p), mode);
+        case 1: return query_in_env(ray, *std::get_if<1>(&p), mode);
+        case 2: return query_in_env(ray, *std::get_if<2>(&p), mode);
+        case 3: return query_in_env(ray, *std::get_if<3>(&p), mode);
+        case 4: return query_in_env(ray, *std::get_if<4>(&p), mode);
+        default: return invalid_hit<T>();  // valueless: not a primitive
+    }
 }
 
 template <class T> ClosestHit<T> invalid_closest() {

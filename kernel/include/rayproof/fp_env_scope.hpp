@@ -42,37 +42,19 @@
 
 namespace rayproof {
 
+// The scope is detail::FpEnvGuard, the guard the batch forms hold for a call, made by
+// the caller for a loop: its writes are volatile asm statements that clobber memory
+// (detail::fp_env_write), so the scoped queries' fences stay between them.
 class FpEnvScope {
 public:
-    FpEnvScope() noexcept : saved_(detail::fp_env_read()) {
-#if !defined(RAYPROOF_NO_FP_ENV_GUARD)
-        switched_ = (saved_ & detail::fp_env_control) != detail::fp_env_default;
-        if (switched_) [[unlikely]]
-            write(static_cast<detail::FpEnvWord>((saved_ & ~detail::fp_env_control) | detail::fp_env_default));
-#endif
-    }
-    ~FpEnvScope() {
-        if (switched_) [[unlikely]]
-            write(saved_);
-    }
+    FpEnvScope() noexcept = default;
     FpEnvScope(const FpEnvScope&) = delete;
     FpEnvScope& operator=(const FpEnvScope&) = delete;
     // Whether the constructor had to set the default (the caller's environment differed).
-    [[nodiscard]] bool switched() const noexcept { return switched_; }
+    [[nodiscard]] bool switched() const noexcept { return guard_.switched(); }
 
 private:
-    // A volatile asm statement with a "memory" clobber where GNU asm is there, so that the
-    // scoped queries' fences (volatile asm statements as well) stay between the two writes.
-    static void write(detail::FpEnvWord w) noexcept {
-#if defined(RAYPROOF_FP_ENV_MXCSR) && (defined(__GNUC__) || defined(__clang__))
-        __asm__ volatile("ldmxcsr %0" : : "m"(w) : "memory");
-#else
-        detail::fp_env_write(w);
-        detail::fp_env_fence_memory();
-#endif
-    }
-    detail::FpEnvWord saved_;
-    bool switched_ = false;
+    detail::FpEnvGuard guard_;
 };
 
 }  // namespace rayproof

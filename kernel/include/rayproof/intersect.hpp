@@ -124,11 +124,18 @@ template <class Q, class R, class Shape, class Mode>
 }
 }  // namespace detail
 
+// R is Ray or PreparedRay in every form below (and in the batch and run-time forms).
+// A PreparedRay (prepared_ray.hpp) gets the same answers as its Ray: in certified mode bit
+// for bit, in conservative mode within the mode's contract. Each shape's query path
+// takes the prepared ray itself (detail::query on a PreparedRay: no validation per
+// query, the Aabb's reciprocals as prepared); a shape without such a path answers through
+// its Ray path on the prepared ray's copy.
+//
 // Inlined into the caller: the Hit then reaches the caller's variable field by field
 // (a Hit returned through memory and copied whole stalls on store-to-load forwarding).
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
+template <template <class> class R, class T, class Shape, class Mode>
+    requires detail::RayOrPrepared<R<T>, T> && Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const R<T>& ray, const Shape& shape, Mode mode) noexcept {
     return detail::guarded_entry<detail::QueryInEnv>(ray, shape, mode);
 }
 
@@ -139,27 +146,9 @@ template <class T, class Shape, class Mode>
 // winning slabs, the face, the roots and the rounding of t. Each such path answers only
 // what its proven bounds decide (the Aabb's on the full query's own lanes) and hands the
 // rest to the full query's stages, so the two cannot disagree.
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mode mode) noexcept {
-    return detail::guarded_entry<detail::VerdictInEnv>(ray, shape, mode);
-}
-
-// --- Prepared rays (prepared_ray.hpp) ---------------------------------------------------
-// The same answers as the Ray forms: in certified mode bit for bit, in conservative mode
-// within the mode's contract. Each shape's query path takes the prepared ray itself
-// (detail::query on a PreparedRay: no validation per query, the Aabb's reciprocals as
-// prepared), under the same floating-point environment guard as the Ray forms; a shape
-// without such a path answers through its Ray path on the prepared ray's copy.
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const PreparedRay<T>& ray, const Shape& shape, Mode mode) noexcept {
-    return detail::guarded_entry<detail::QueryInEnv>(ray, shape, mode);
-}
-
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const PreparedRay<T>& ray, const Shape& shape, Mode mode) noexcept {
+template <template <class> class R, class T, class Shape, class Mode>
+    requires detail::RayOrPrepared<R<T>, T> && Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const R<T>& ray, const Shape& shape, Mode mode) noexcept {
     return detail::guarded_entry<detail::VerdictInEnv>(ray, shape, mode);
 }
 
@@ -167,30 +156,16 @@ template <class T, class Shape, class Mode>
 // The same answers as the forms above, bit for bit in every mode, without the per-call
 // read of the control state: the scope has established the default environment (and,
 // checked where RAYPROOF_CHECK_FP_ENV_SCOPE is defined or NDEBUG is not, still finds it).
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const Ray<T>& ray, const Shape& shape, Mode mode,
+template <template <class> class R, class T, class Shape, class Mode>
+    requires detail::RayOrPrepared<R<T>, T> && Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const R<T>& ray, const Shape& shape, Mode mode,
                                                       const FpEnvScope&) noexcept {
     return detail::scoped_entry<detail::QueryInEnv>(ray, shape, mode);
 }
 
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const Ray<T>& ray, const Shape& shape, Mode mode,
-                                                     const FpEnvScope&) noexcept {
-    return detail::scoped_entry<detail::VerdictInEnv>(ray, shape, mode);
-}
-
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-[[nodiscard]] RAYPROOF_ALWAYS_INLINE Hit<T> intersect(const PreparedRay<T>& ray, const Shape& shape, Mode mode,
-                                                      const FpEnvScope&) noexcept {
-    return detail::scoped_entry<detail::QueryInEnv>(ray, shape, mode);
-}
-
-template <class T, class Shape, class Mode>
-    requires Answerable<T, Shape, Mode>
-[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const PreparedRay<T>& ray, const Shape& shape, Mode mode,
+template <template <class> class R, class T, class Shape, class Mode>
+    requires detail::RayOrPrepared<R<T>, T> && Answerable<T, Shape, Mode>
+[[nodiscard]] RAYPROOF_ALWAYS_INLINE Verdict verdict(const R<T>& ray, const Shape& shape, Mode mode,
                                                      const FpEnvScope&) noexcept {
     return detail::scoped_entry<detail::VerdictInEnv>(ray, shape, mode);
 }
@@ -266,7 +241,6 @@ template <class T, class Shape>
 concept AnswerableAtRunTime = Answerable<T, Shape, fast_t> && Answerable<T, Shape, conservative_t> &&
                               Answerable<T, Shape, certified_t>;
 
-// R is Ray or PreparedRay, in every form below.
 template <template <class> class R, class T, class Shape>
     requires detail::RayOrPrepared<R<T>, T> && AnswerableAtRunTime<T, Shape>
 [[nodiscard]] Hit<T> intersect(const R<T>& ray, const Shape& shape, RuntimeMode mode) noexcept {

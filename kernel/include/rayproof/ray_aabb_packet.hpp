@@ -456,6 +456,26 @@ template <class B, class T, int W, class Mode>
                                  noexcept { return packet_intersect_in_env<B>(r, p, Mode{}); },
                              pr, b);
 }
+// The packet's work in the environment already established, every mode (the fast one
+// is not guarded): the bodies of the scoped forms (intersect.hpp's scoped_entry).
+struct PacketVerdictInEnv {
+    template <class T, int W, class Mode>
+    RAYPROOF_ALWAYS_INLINE std::uint32_t operator()(const PreparedRay<T>& r, const AabbPacket<T, W>& b, Mode m) const noexcept {
+        if constexpr (fp_env_guarded<Mode>)
+            return packet_verdict_in_env<simd::native>(r, b, m);
+        else
+            return packet_verdict<simd::native>(r, b, m);
+    }
+};
+struct PacketIntersectInEnv {
+    template <class T, int W, class Mode>
+    RAYPROOF_ALWAYS_INLINE PacketHit<T, W> operator()(const PreparedRay<T>& r, const AabbPacket<T, W>& b, Mode m) const noexcept {
+        if constexpr (fp_env_guarded<Mode>)
+            return packet_intersect_in_env<simd::native>(r, b, m);
+        else
+            return packet_intersect<simd::native>(r, b, m);
+    }
+};
 
 }  // namespace detail
 
@@ -481,29 +501,14 @@ template <class T, int W, class Mode>
     requires is_mode_v<Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE std::uint32_t verdict(const PreparedRay<T>& ray, const AabbPacket<T, W>& boxes,
                                                            Mode mode, const FpEnvScope&) noexcept {
-    if constexpr (detail::fp_env_guarded<Mode>)
-        return detail::in_fp_env_scope(
-            [](const PreparedRay<T>& r, const AabbPacket<T, W>& p) RAYPROOF_INLINE_LAMBDA {
-                return detail::packet_verdict_in_env<detail::simd::native>(r, p, Mode{});
-            },
-            ray, boxes);
-    else
-        return detail::packet_verdict<detail::simd::native>(ray, boxes, mode);
+    return detail::scoped_entry<detail::PacketVerdictInEnv>(ray, boxes, mode);
 }
 
 template <class T, int W, class Mode>
     requires is_mode_v<Mode>
 [[nodiscard]] RAYPROOF_ALWAYS_INLINE PacketHit<T, W> intersect(const PreparedRay<T>& ray, const AabbPacket<T, W>& boxes,
                                                                Mode mode, const FpEnvScope&) noexcept {
-    if constexpr (detail::fp_env_guarded<Mode>)
-        return detail::in_fp_env_scope(
-            [](const PreparedRay<T>& r, const AabbPacket<T, W>& p) RAYPROOF_INLINE_LAMBDA {
-                return detail::packet_intersect_in_env<detail::simd::native>(r, p, Mode{});
-            },
-            ray, boxes);
-    else
-        return detail::packet_intersect<detail::simd::native>(ray, boxes, mode);
+    return detail::scoped_entry<detail::PacketIntersectInEnv>(ray, boxes, mode);
 }
-
 
 }  // namespace rayproof

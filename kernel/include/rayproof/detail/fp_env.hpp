@@ -109,7 +109,16 @@ using FpEnvWord = unsigned int;
 inline constexpr FpEnvWord fp_env_control = 0xFFC0u;  // DAZ (6), masks (7-12), rounding (13-14), FTZ (15)
 inline constexpr FpEnvWord fp_env_default = 0x1F80u;  // every exception masked, nearest, no FTZ/DAZ
 [[nodiscard]] inline FpEnvWord fp_env_read() noexcept { return _mm_getcsr(); }
-inline void fp_env_write(FpEnvWord w) noexcept { _mm_setcsr(w); }
+// With GNU asm, a volatile statement with a "memory" clobber, as the AArch64 form below:
+// no load or store moves across it, so fences made of volatile asm statements (the
+// scoped queries', detail::in_fp_env_scope) stay on their side of every write.
+inline void fp_env_write(FpEnvWord w) noexcept {
+#if defined(__GNUC__) || defined(__clang__)
+    __asm__ volatile("ldmxcsr %0" : : "m"(w) : "memory");
+#else
+    _mm_setcsr(w);
+#endif
+}
 #elif defined(RAYPROOF_FP_ENV_FPCR)
 using FpEnvWord = std::uint64_t;
 inline constexpr FpEnvWord fp_env_control = 0x01C09F03u;  // FIZ, AH, traps (8-12, 15), RMode (22-23), FZ (24)
@@ -130,20 +139,29 @@ inline void fp_env_write(FpEnvWord w) noexcept { (void)std::fesetround(w); }
 
 // True when the control state is the one the kernel needs (always, with the guard
 // compiled out). The public entry points test it before each call or batch.
+[[nodiscard]] constexpr bool fp_env_is_default_word(FpEnvWord w) noexcept {
+#if defined(RAYPROOF_NO_FP_ENV_GUARD)
+    static_cast<void>(w);
+    return true;
+#else
+    return (w & fp_env_control) == fp_env_default;
+#endif
+}
 [[nodiscard]] inline bool fp_env_is_default() noexcept {
 #if defined(RAYPROOF_NO_FP_ENV_GUARD)
     return true;
 #else
-    return (fp_env_read() & fp_env_control) == fp_env_default;
+    return fp_env_is_default_word(fp_env_read());
 #endif
 }
 
 // RAII: establishes the default control state for its lifetime when it differs (the
 // caller's other bits, and its sticky flags, kept) and writes the caller's word back,
-// exactly as read, when it goes out of scope. Not copyable: one scope, one thread.
+// exactly as read, when it goes out of scope. Not copyable: one scope, one thread. With
+// RAYPROOF_NO_FP_ENV_GUARD it switches nothing, as every other guarded path.
 class FpEnvGuard {
 public:
-    FpEnvGuard() noexcept : saved_(fp_env_read()), switched_((saved_ & fp_env_control) != fp_env_default) {
+    FpEnvGuard() noexcept : saved_(fp_env_read()), switched_(!fp_env_is_default_word(saved_)) {
         if (switched_) fp_env_write(static_cast<FpEnvWord>((saved_ & ~fp_env_control) | fp_env_default));
     }
     ~FpEnvGuard() {
