@@ -672,6 +672,105 @@ TYPED_TEST(BvhTest, FastNodeTestIsTheFastPacketsLanes) {
     EXPECT_GT(lanes_hit, 100u) << "the rays should meet enough lanes to matter";
 }
 
+// The scaled node test (detail::bvh_node_scaled, the conservative and certified modes'
+// node test where bvh_scaled_usable admits the ray) never drops a lane the exact ray
+// meets: on every node of random trees at three scales (normal; every coordinate in the
+// subnormals, where the slab products underflow; near 2^100 in float, 2^900 in double),
+// against the certified packet verdict on the same range (exact), with rays at random,
+// aimed at node corners (grazing) and with ranges ending at a lane's certified entry.
+// Its entry bound lies at or below the certified t_enter (faithful, so the exact entry
+// is above its predecessor), empty slots never hit, the native and portable backends
+// agree bit for bit, and it keeps few lanes the exact test drops.
+TYPED_TEST(BvhTest, ScaledNodeTestKeepsEveryExactHit) {
+    using T = typename TypeParam::type;
+    constexpr int W = TypeParam::width;
+    constexpr bool f = std::is_same_v<T, float>;
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::mt19937_64 g = make_rng();
+    std::uniform_real_distribution<double> u(-12, 12), t01(0, 1);
+    std::size_t used = 0, exact_hits = 0, extra = 0, underflow_lanes = 0;
+    for (const double scale : {1.0, f ? 0x1p-140 : 0x1p-1060, f ? 0x1p100 : 0x1p900}) {
+        SCOPED_TRACE("scale " + ::testing::PrintToString(scale));
+        Scene<T> s = random_scene<T>(g, 300);
+        auto sc = [&](T x) { return T(double(x) * scale); };
+        for (Primitive<T>& p : s.prims) {
+            if (auto* a = std::get_if<Aabb<T>>(&p)) *a = Aabb<T>{a->lo.unaryExpr(sc), a->hi.unaryExpr(sc)};
+            if (auto* b = std::get_if<Sphere<T>>(&p)) *b = Sphere<T>{b->center.unaryExpr(sc), sc(b->radius)};
+            if (auto* o = std::get_if<Obb<T>>(&p)) *o = Obb<T>{o->center.unaryExpr(sc), o->axes, o->half_extent.unaryExpr(sc)};
+        }
+        const Bvh<T, W> bvh(std::span<const Primitive<T>>(s.prims));
+        double extent = 0;
+        std::vector<std::pair<int, int>> lanes;  // (node, lane) of every non-empty lane
+        for (std::size_t n = 0; n < bvh.nodes().size(); ++n)
+            for (int i = 0; i < W; ++i) {
+                const auto& box = bvh.nodes()[n].box;
+                if (!(box.lo[0][i] <= box.hi[0][i])) continue;
+                lanes.emplace_back(int(n), i);
+                for (int a = 0; a < 3; ++a)
+                    extent = std::max({extent, std::abs(double(box.lo[a][i])), std::abs(double(box.hi[a][i]))});
+            }
+        ASSERT_FALSE(lanes.empty());
+        for (int k = 0; k < 90; ++k) {
+            // Directions at the scene's scale, except in the subnormals (normal directions
+            // there, so that the reciprocals stay in range and the products underflow).
+            const double dscale = scale < 1 ? 1.0 : scale;
+            const Vec3<T> o = v3<T>(u(g), u(g), u(g)).unaryExpr(sc);
+            Ray<T> r{o, v3<T>(u(g) * dscale, u(g) * dscale, u(g) * dscale)};
+            if (k % 3 == 1) {  // at a corner of some lane's box, ahead (t = 1) or behind (t = -1)
+                const auto [n, i] = lanes[std::size_t(g() % lanes.size())];
+                const auto& box = bvh.nodes()[std::size_t(n)].box;
+                Vec3<T> corner;
+                for (int a = 0; a < 3; ++a) corner[a] = g() % 2 ? box.lo[a][i] : box.hi[a][i];
+                r.direction = k % 2 ? Vec3<T>(corner - o) : Vec3<T>(o - corner);
+                if (scale < 1) r.direction = (r.direction.template cast<double>() / scale).template cast<T>();
+                if (k % 2 == 0) r.t_min = -inf<T>;
+            }
+            if (k % 3 == 2) {  // a range cutting the scene, sometimes reaching behind the origin
+                r.t_min = T(t01(g) * 0.5 - (k % 4 == 2 ? 1.0 : 0.0));
+                r.t_max = T(double(r.t_min) + t01(g) * 2);
+            }
+            if (r.direction.isZero()) continue;
+            const PreparedRay<T> pr0(r);
+            if (k % 5 == 4 && pr0.valid()) {  // the range ends at a lane's certified entry
+                const auto [n, i] = lanes[std::size_t(g() % lanes.size())];
+                const PacketHit<T, W> h = intersect(pr0, bvh.nodes()[std::size_t(n)].box, certified);
+                if ((h.mask >> i) & 1) r.t_max = h.t_enter[i];
+            }
+            const PreparedRay<T> pr(r);
+            if (!pr.valid() || !detail::bvh_scaled_usable(pr, extent)) continue;
+            ++used;
+            SCOPED_TRACE(::testing::PrintToString(r));
+            for (std::size_t n = 0; n < bvh.nodes().size(); ++n) {
+                const auto& box = bvh.nodes()[n].box;
+                double t[std::size_t(W)], tp[std::size_t(W)];
+                const std::uint32_t mask = detail::bvh_node_scaled<detail::simd::native>(pr, box, t);
+                const std::uint32_t mask_p = detail::bvh_node_scaled<detail::simd::portable>(pr, box, tp);
+                const PacketHit<T, W> exact = intersect(pr, box, certified);
+                ASSERT_EQ(mask_p, mask) << "node " << n;
+                ASSERT_EQ(exact.mask & ~mask, 0u) << "node " << n << ": an exact hit dropped";
+                for (int i = 0; i < W; ++i) {
+                    ASSERT_TRUE(same_bits(t[i], tp[i])) << "node " << n << " lane " << i;
+                    if (!(box.lo[0][i] <= box.hi[0][i])) {
+                        ASSERT_FALSE((mask >> i) & 1) << "node " << n << ": an empty slot hit";
+                    }
+                    if ((exact.mask >> i) & 1) {
+                        ++exact_hits;
+                        ASSERT_LE(t[i], double(exact.t_enter[i])) << "node " << n << " lane " << i;
+                        underflow_lanes += std::abs(double(exact.t_enter[i])) < double(std::numeric_limits<T>::min()) &&
+                                           exact.t_enter[i] != 0;
+                    } else if ((mask >> i) & 1) {
+                        ++extra;
+                    }
+                }
+            }
+        }
+    }
+    EXPECT_GT(used, 150u) << "the test should reach the scaled node test";
+    EXPECT_GT(exact_hits, 500u);
+    EXPECT_LE(extra, std::max<std::size_t>(20, exact_hits / 20)) << "the scaled test keeps too many misses";
+    EXPECT_GT(underflow_lanes, 10u) << "the subnormal scene should reach entries in the subnormals";
+}
+
 #if defined(__x86_64__) || defined(_M_X64)
 // The caller's floating-point environment does not change the answers: under
 // flush-to-zero with denormals-are-zero, and under upward rounding, the tree is built

@@ -238,6 +238,59 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_filter(const PreparedRay<T>& pr, c
     return mask;
 }
 
+// The scaled node test (BvhFilter::scaled) of the conservative and certified modes: on a
+// tree's lane boxes (each finite with lo <= hi, or an empty slot lo = +inf, hi = -inf),
+// in T, for a valid ray that bvh_scaled_usable admits. Per axis, with s_lo = fl(r(1 - c))
+// and s_hi = fl(r(1 + c)) (r = rinv = fl(1/d) in double, rounded to T; c = 8u, u the unit
+// roundoff of T), the exact entry a = (near - o)/d and exit b = (far - o)/d are bounded by
+//   a >= min(fl(x·s_lo), fl(x·s_hi)) - eta,  b <= max(fl(y·s_lo), fl(y·s_hi)) + eta,
+// x = fl(near - o), y = fl(far - o), eta = 2^-150 (float) or 2^-1075 (double), half the
+// smallest subnormal (the product's rounding is absolute where it underflows).
+// Derivation, for the product p = x·s with x·r >= 0 and s = s_lo:
+// fl(x·s_lo) is at most |x_e|(1 + u)·|r|(1 + u_d)^2(1 - c)(1 + u)·(1 + u), x_e = near - o
+// (x's, the reciprocal's (double, then the product by 1 - c), s_lo's rounding to T and
+// the product's), and (1 + u)^3 (1 + u_d)^2 (1 - c) <= 1 for c = 8u, so it is at most
+// |a|; for x·r < 0, fl(x·s_hi) <= -|x_e||r|(1 - u)^3(1 - u_d)^2(1 + c) <= a likewise.
+// One of the two is a valid lower bound in either case, hence so is their min, whatever
+// the signs (the exit: the max, by the mirror argument). Where the product underflows,
+// its rounding is absolute, at most eta: hence the - eta. The ranges bvh_scaled_usable
+// checks keep s_lo and s_hi normal and every |x·s| below T's largest finite value; x
+// itself is exact when subnormal, and an empty slot's x is ±inf with a finite nonzero
+// s, so its entry is +inf and its exit -inf on every axis (never a hit, never NaN).
+// The mask needs no eta: the exact products before their last rounding, z = x·s
+// (entries) and w = y·s (exits), already bound a from below and b from above (c covers
+// every other rounding), and rounding is monotone, so an exact hit, t_min <= b_j and a_i
+// <= t_max and a_i <= b_j for all axes i, j, gives fl(z_i) <= fl(w_j), t_min <= fl(w_j)
+// and fl(z_i) <= t_max: with e = max(t_min, entry bounds) and X = min(t_max, exit
+// bounds) as computed, e <= X (an overflow to ±inf keeps the order too). The lane's entry
+// bound t = fl(e - 2eta) (2eta = T's smallest subnormal) lies at or below the exact
+// entry: where e came from an underflowed product, |e| <= 2^-126 (float; 2^-1022 double)
+// and the subtraction is exact; elsewhere e itself bounds the entry and fl(e - 2eta) <= e.
+// Compared with bvh_node_filter (the certified packet's filter), the bound is folded into
+// two products per slab instead of an absolute value, a product and a sum after the
+// slabs, and no finiteness probe is needed, which shortens the chain a traversal waits on
+// at every node.
+template <class T> inline constexpr double bvh_scaled_c = 8 * unit_roundoff<T>;
+template <class B, class T, int W>
+RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_scaled(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
+                                                     double (&t)[std::size_t(W)]) noexcept {
+    using V = simd::Vec<T, W, B>;
+    const Ray<T>& r = pr.ray();
+    const V eta2 = V::splat(std::numeric_limits<T>::denorm_min());
+    V enter = V::splat(r.t_min), leave = V::splat(r.t_max);  // e and X
+    RAYPROOF_UNROLL3
+    for (int i = 0; i < 3; ++i) {
+        const bool neg = pr.negative(i);
+        const V o = V::splat(r.origin[i]);
+        const V s_lo = V::splat(T(pr.rinv(i) * (1 - bvh_scaled_c<T>))), s_hi = V::splat(T(pr.rinv(i) * (1 + bvh_scaled_c<T>)));
+        const V x = V::load(neg ? b.hi[i] : b.lo[i]) - o, y = V::load(neg ? b.lo[i] : b.hi[i]) - o;
+        enter = max(min(x * s_lo, x * s_hi), enter);
+        leave = min(max(y * s_lo, y * s_hi), leave);
+    }
+    (enter - eta2).store_widened(t);
+    return (enter <= leave).bits();
+}
+
 // Which node filter a prepared ray can use, fixed by its reciprocals alone (so decided
 // once per traversal: PreparedRay::with_range keeps them): float trees the float filter
 // (twice the lanes per register, K = 2·gamma_f(4), eta = 2^-126) where every reciprocal
@@ -245,7 +298,24 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_filter(const PreparedRay<T>& pr, c
 // double reciprocal is normal; else the scalar conservative query per lane.
 // Fast mode has its own two: lean (bvh_node_fast) where every reciprocal in T is normal
 // and finite (no axis parallel), else the fast packet's general lanes (scalar).
-enum class BvhFilter : unsigned char { in_float, in_double, scalar, lean };
+enum class BvhFilter : unsigned char { in_float, in_double, scalar, lean, scaled };
+
+// Whether bvh_node_scaled can answer for the prepared ray on a tree whose finite box
+// coordinates are at most `extent` in magnitude: per axis, |rinv| in [2^-120, 2^120]
+// (float; [2^-1000, 2^1000] double), so that s_lo and s_hi are normal in T, and (extent
+// + |o|)·|rinv| at most 2^125 (float; 2^1021 double), so that |x·s| <= 2(extent +
+// |o|)|rinv| stays below T's largest finite value (the factor 2 covers (1 + c) and the
+// roundings). A zero component (rinv infinite) or a NaN fails the comparisons.
+template <class T> RAYPROOF_ALWAYS_INLINE bool bvh_scaled_usable(const PreparedRay<T>& pr, double extent) noexcept {
+    constexpr bool f = std::is_same_v<T, float>;
+    constexpr double small = f ? 0x1p-120 : 0x1p-1000, big = f ? 0x1p120 : 0x1p1000, large = f ? 0x1p125 : 0x1p1021;
+    bool ok = true;
+    for (int i = 0; i < 3; ++i) {
+        const double a = std::abs(pr.rinv(i));
+        ok &= (small <= a) & (a <= big) & ((extent + std::abs(double(pr.ray().origin[i]))) * a <= large);
+    }
+    return ok;
+}
 template <class T> RAYPROOF_ALWAYS_INLINE BvhFilter bvh_filter_for(const PreparedRay<T>& pr) noexcept {
     if constexpr (std::is_same_v<T, float>)
         if (packet::all_axes_usable<float>(pr)) return BvhFilter::in_float;
@@ -507,8 +577,11 @@ private:
             l.enter.store(t);
             return l.ok.bits();
         } else {
-            if (Known || detail::fp_env_is_default()) [[likely]]
+            if (Known || detail::fp_env_is_default()) [[likely]] {
+                if (which == detail::BvhFilter::scaled) [[likely]]
+                    return detail::bvh_node_scaled<detail::simd::native>(r, n.box, t);
                 return detail::bvh_node_conservative<detail::simd::native>(r, n.box, which, t);
+            }
             const PacketHit<T, W> h = rayproof::intersect(r, n.box, conservative);
             for (int i = 0; i < W; ++i) t[i] = double(h.t_enter[i]);
             return h.mask;
@@ -578,8 +651,9 @@ private:
         if (!nr.valid()) return;
         double cut = double(nr.ray().t_max);
         // nr's reciprocals are ray's
-        const detail::BvhFilter which =
-            std::is_same_v<Mode, fast_t> ? detail::bvh_fast_filter_for(ray) : detail::bvh_filter_for(ray);
+        const detail::BvhFilter which = std::is_same_v<Mode, fast_t>         ? detail::bvh_fast_filter_for(ray)
+                                        : detail::bvh_scaled_usable(ray, extent_) ? detail::BvhFilter::scaled
+                                                                                  : detail::bvh_filter_for(ray);
 
         // cur: the lane being answered; the stack holds the lanes deferred, nearest on
         // top. A hit lane of a node test on the current range has its t_enter bound at
@@ -918,6 +992,15 @@ private:
         }
         nodes_.shrink_to_fit();
         outside_.shrink_to_fit();
+        // The largest finite box coordinate in magnitude (the root's lanes enclose every
+        // node's; empty slots are infinite and skipped), for bvh_scaled_usable.
+        extent_ = 0;
+        if (!nodes_.empty())
+            for (int a = 0; a < 3; ++a)
+                for (int i = 0; i < W; ++i)
+                    if (nodes_[0].box.lo[a][i] <= nodes_[0].box.hi[a][i])
+                        extent_ = std::max({extent_, std::abs(double(nodes_[0].box.lo[a][i])),
+                                            std::abs(double(nodes_[0].box.hi[a][i]))});
     }
 
     std::vector<Primitive<T>> prims_;      // in stored order (stored())
@@ -927,6 +1010,7 @@ private:
     std::vector<std::size_t> outside_;     // primitives beside the tree, ascending
     std::vector<Ref> refs_;                // the build's scratch (empty after it)
     int depth_ = 0;
+    double extent_ = 0;  // the largest finite box coordinate in magnitude (finish())
 };
 
 }  // namespace rayproof
