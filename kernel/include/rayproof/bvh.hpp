@@ -52,14 +52,16 @@
 //            query on the current range [t_min, t_limit] (PreparedRay::with_range, the
 //            reciprocals kept): fast mode its fast packet's lanes (without the packet's
 //            checks, bvh_node_fast, where no axis is parallel); the conservative and certified
-//            modes the conservative packet's filter (bvh_node_conservative), whose mask
-//            contains every lane the exact ray meets on that range and whose entry
-//            enclosure's lower end (kept in double) bounds the lane's exact entry below.
+//            modes the slabs with the reciprocal scaled by 1 - c and 1 + c (bvh_node_scaled,
+//            where the ray's reciprocals and the tree's extent keep every product finite)
+//            or else the conservative packet's filter (bvh_node_conservative): either
+//            mask contains every lane the exact ray meets on that range, and the lane's
+//            entry bound (kept in double) lies at or below its exact entry.
 //            The nearest hit lane is answered next; the other hit lanes are pushed far
 //            first by that t_enter (their nodes or leaf primitives prefetched), and a
 //            popped lane whose t_enter exceeds the current t_limit is skipped. Which
-//            filter (float, double, or the scalar query for reciprocals neither can use)
-//            is decided once per ray. (The certified packet is exact, but pays a scalar
+//            filter (scaled, float, double, or the scalar query for reciprocals none can
+//            use) is decided once per ray. (The certified packet is exact, but pays a scalar
 //            query for its undecided lanes; the primitives' own certified queries decide
 //            the answer either way, so the conservative packet, which never culls less
 //            than the exact test would keep, suffices.)
