@@ -672,6 +672,18 @@ TYPED_TEST(BvhTest, FastNodeTestIsTheFastPacketsLanes) {
     EXPECT_GT(lanes_hit, 100u) << "the rays should meet enough lanes to matter";
 }
 
+// The scene with every coordinate and length multiplied by scale (a power of two, so
+// exactly unless it leaves T's range).
+template <class T> Scene<T> scaled(Scene<T> s, double scale) {
+    auto sc = [&](T x) { return T(double(x) * scale); };
+    for (Primitive<T>& p : s.prims) {
+        if (auto* a = std::get_if<Aabb<T>>(&p)) *a = Aabb<T>{a->lo.unaryExpr(sc), a->hi.unaryExpr(sc)};
+        if (auto* b = std::get_if<Sphere<T>>(&p)) *b = Sphere<T>{b->center.unaryExpr(sc), sc(b->radius)};
+        if (auto* o = std::get_if<Obb<T>>(&p)) *o = Obb<T>{o->center.unaryExpr(sc), o->axes, o->half_extent.unaryExpr(sc)};
+    }
+    return s;
+}
+
 // The scaled node test (detail::bvh_node_scaled, the conservative and certified modes'
 // node test where bvh_scaled_usable admits the ray) never drops a lane the exact ray
 // meets: on every node of random trees at three scales (normal; every coordinate in the
@@ -691,13 +703,8 @@ TYPED_TEST(BvhTest, ScaledNodeTestKeepsEveryExactHit) {
     std::size_t used = 0, exact_hits = 0, extra = 0, underflow_lanes = 0;
     for (const double scale : {1.0, f ? 0x1p-140 : 0x1p-1060, f ? 0x1p100 : 0x1p900}) {
         SCOPED_TRACE("scale " + ::testing::PrintToString(scale));
-        Scene<T> s = random_scene<T>(g, 300);
+        const Scene<T> s = scaled(random_scene<T>(g, 300), scale);
         auto sc = [&](T x) { return T(double(x) * scale); };
-        for (Primitive<T>& p : s.prims) {
-            if (auto* a = std::get_if<Aabb<T>>(&p)) *a = Aabb<T>{a->lo.unaryExpr(sc), a->hi.unaryExpr(sc)};
-            if (auto* b = std::get_if<Sphere<T>>(&p)) *b = Sphere<T>{b->center.unaryExpr(sc), sc(b->radius)};
-            if (auto* o = std::get_if<Obb<T>>(&p)) *o = Obb<T>{o->center.unaryExpr(sc), o->axes, o->half_extent.unaryExpr(sc)};
-        }
         const Bvh<T, W> bvh(std::span<const Primitive<T>>(s.prims));
         double extent = 0;
         std::vector<std::pair<int, int>> lanes;  // (node, lane) of every non-empty lane
@@ -783,13 +790,8 @@ template <class T, int W> void check_foreign_env(unsigned csr_bits, int round) {
     std::mt19937_64 g = make_rng();
     std::uniform_real_distribution<double> u(-12, 12);
     for (const double scale : {1.0, sizeof(T) == 4 ? 0x1p-140 : 0x1p-1060}) {
-        Scene<T> s = random_scene<T>(g, 50);
+        const Scene<T> s = scaled(random_scene<T>(g, 50), scale);
         auto sc = [&](T x) { return T(double(x) * scale); };
-        for (Primitive<T>& p : s.prims) {
-            if (auto* a = std::get_if<Aabb<T>>(&p)) *a = Aabb<T>{a->lo.unaryExpr(sc), a->hi.unaryExpr(sc)};
-            if (auto* b = std::get_if<Sphere<T>>(&p)) *b = Sphere<T>{b->center.unaryExpr(sc), sc(b->radius)};
-            if (auto* o = std::get_if<Obb<T>>(&p)) *o = Obb<T>{o->center.unaryExpr(sc), o->axes, o->half_extent.unaryExpr(sc)};
-        }
         const Bvh<T, W> home(s.prims);
         std::vector<Ray<T>> rays;
         std::vector<ClosestHit<T>> refs;
