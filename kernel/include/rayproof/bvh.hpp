@@ -293,13 +293,15 @@ RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_scaled(const PreparedRay<T>& pr, c
     return (enter <= leave).bits();
 }
 
-// Which node filter a prepared ray can use, fixed by its reciprocals alone (so decided
-// once per traversal: PreparedRay::with_range keeps them): float trees the float filter
-// (twice the lanes per register, K = 2·gamma_f(4), eta = 2^-126) where every reciprocal
-// is a normal float; otherwise, and for double trees, the double filter where every
-// double reciprocal is normal; else the scalar conservative query per lane.
-// Fast mode has its own two: lean (bvh_node_fast) where every reciprocal in T is normal
-// and finite (no axis parallel), else the fast packet's general lanes (scalar).
+// Which node filter a traversal uses. The conservative and certified modes: the scaled
+// filter (bvh_node_scaled) where bvh_scaled_usable admits the ray on the tree; otherwise
+// float trees the float filter (twice the lanes per register, K = 2·gamma_f(4), eta =
+// 2^-126) where every reciprocal is a normal float; otherwise, and for double trees, the
+// double filter where every double reciprocal is normal; else the scalar conservative
+// query per lane. Fast mode has its own two: lean (bvh_node_fast) where every reciprocal
+// in T is normal and finite (no axis parallel), else the fast packet's general lanes
+// (scalar). The choice depends on the ray's origin and reciprocals (and the tree's
+// extent) alone, which PreparedRay::with_range keeps, so it is made once per traversal.
 enum class BvhFilter : unsigned char { in_float, in_double, scalar, lean, scaled };
 
 // Whether bvh_node_scaled can answer for the prepared ray on a tree whose finite box
@@ -561,8 +563,9 @@ private:
 
     // The node test in the mode: the lanes' mask and, per hit lane, its t_enter (a lower
     // bound of the lane's exact entry in the conservative and certified modes). Fast: the
-    // fast packet. Conservative and certified: the conservative packet's own filter
-    // (detail::bvh_node_conservative), which needs the default environment: Known says
+    // fast packet's lanes (which: lean or general). Conservative and certified: the
+    // scaled test (detail::bvh_node_scaled) or the conservative packet's own filter
+    // (detail::bvh_node_conservative), which need the default environment: Known says
     // the caller established it, else it is checked per node.
     // A node test's entries: fast mode's in T as computed (no widening of lanes that
     // missed), the others' lower bounds in double (the filter may compute them so).
