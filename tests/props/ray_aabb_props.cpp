@@ -32,8 +32,8 @@ std::optional<std::string> lanes_equal_scalar(const std::vector<rayproof::Ray<T>
     const auto prepared = detail::prepare(box);
     std::vector<Hit<T>> hits(rs.size());
     std::vector<Verdict> verdicts(rs.size());
-    detail::batch::aabb_certified<B>(std::span<const R>(rs), prepared, std::span<Hit<T>>(hits));
-    detail::batch::aabb_certified<B>(std::span<const R>(rs), prepared, std::span<Verdict>(verdicts));
+    detail::batch::certified_lanes<B>(std::span<const R>(rs), prepared, std::span<Hit<T>>(hits));
+    detail::batch::certified_lanes<B>(std::span<const R>(rs), prepared, std::span<Verdict>(verdicts));
     for (std::size_t i = 0; i < rs.size(); ++i) {
         const Hit<T> s = intersect(rs[i], box, certified);
         if (!props::identical(s, hits[i]) || verdicts[i] != s.verdict) {
@@ -52,7 +52,7 @@ TYPED_TEST(AabbProps, CertifiedLaneBatchEqualsScalar) {
     using T = TypeParam;
     using namespace rayproof;
     props::run_cases<T, Aabb<T>>([](const auto& d, auto pick) -> std::optional<std::string> {
-        constexpr int W = detail::batch::kAabbLanes;
+        constexpr int W = detail::batch::kBatchLanes;
         const auto& g = gen::generators<T, Aabb<T>>()[d.plan->generator_of(d.index)];
         const auto n = std::size_t(pick(W + int(d.choice(props::kBatchSalt) % (4 * W)), W));
         gen::Rng rng(d.seed());

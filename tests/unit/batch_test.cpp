@@ -5,8 +5,9 @@
 // vectorized or contracted path is free to), so they must agree on validity, and each
 // conservative answer, batch and scalar, must hit wherever the certified one does with
 // an interval reaching the certified ends' outer neighbours (the exact ends lie within
-// them). An invalid shape makes every element invalid; a size mismatch is refused with
-// std::invalid_argument.
+// them). The verdict batch likewise: certified verdicts identical, the others the same
+// validity, conservative's a hit wherever certified's is. An invalid shape makes every
+// element invalid; a size mismatch is refused with std::invalid_argument.
 #include "same_hit.hpp"
 #include <rayproof/detail/ray_aabb_batch.hpp>
 #include "unit_support.hpp"
@@ -80,8 +81,30 @@ template <class T, class Shape, class Mode> void compare(const Shape& s, Mode m,
             }
         }
     }
+    // The verdict batch: each element the scalar verdict (certified: the same verdict;
+    // the other modes: the same validity, and conservative's hit wherever certified's).
+    std::vector<Verdict> vout(in.size());
+    verdict(std::span<const Ray<T>>(in), s, m, std::span<Verdict>(vout));
+    for (std::size_t i = 0; i < in.size(); ++i) {
+        const Verdict v1 = verdict(in[i], s, m);
+        SCOPED_TRACE(::testing::Message() << mode_name(m) << " verdict, seed " << seed << " element " << i << ": "
+                                          << in[i]);
+        ASSERT_EQ(vout[i] == Verdict::invalid, v1 == Verdict::invalid) << int(vout[i]) << " vs " << int(v1);
+        if constexpr (std::is_same_v<Mode, certified_t>) {
+            ASSERT_EQ(vout[i], v1);
+        } else if constexpr (std::is_same_v<Mode, conservative_t>) {
+            if constexpr (Answerable<T, Shape, certified_t>) {
+                if (verdict(in[i], s, certified) == Verdict::hit) {
+                    ASSERT_EQ(vout[i], Verdict::hit);
+                    ASSERT_EQ(v1, Verdict::hit);
+                }
+            }
+        }
+    }
     std::vector<Hit<T>> short_out(in.size() - 1);
     EXPECT_THROW(intersect(std::span<const Ray<T>>(in), s, m, std::span<Hit<T>>(short_out)), std::invalid_argument);
+    std::vector<Verdict> short_v(in.size() - 1);
+    EXPECT_THROW(verdict(std::span<const Ray<T>>(in), s, m, std::span<Verdict>(short_v)), std::invalid_argument);
 }
 
 template <class T, class Shape> void compare_all_modes(const Shape& s, std::uint64_t seed) {
@@ -190,8 +213,8 @@ void check_lanes(const std::vector<Ray<T>>& in, const Shape& s) {
     const auto prepared = detail::prepare(s);
     std::vector<Hit<T>> hits(rs.size());
     std::vector<Verdict> verdicts(rs.size());
-    detail::batch::aabb_certified<B>(std::span<const R>(rs), prepared, std::span<Hit<T>>(hits));
-    detail::batch::aabb_certified<B>(std::span<const R>(rs), prepared, std::span<Verdict>(verdicts));
+    detail::batch::certified_lanes<B>(std::span<const R>(rs), prepared, std::span<Hit<T>>(hits));
+    detail::batch::certified_lanes<B>(std::span<const R>(rs), prepared, std::span<Verdict>(verdicts));
     for (std::size_t i = 0; i < rs.size(); ++i) {
         SCOPED_TRACE(::testing::Message() << (std::is_same_v<B, simd::portable> ? "portable " : "native ")
                                           << (detail::is_prepared_ray_v<R> ? "prepared " : "ray ") << in[i]);
@@ -207,10 +230,15 @@ template <class T, class Shape> void check_all_forms(const std::vector<Ray<T>>& 
     check_lanes<simd::native, Ray<T>>(in, s);
     check_lanes<simd::portable, PreparedRay<T>>(in, s);
     check_lanes<simd::native, PreparedRay<T>>(in, s);
-    // And the public batch form (the native lanes inside batch_of where it takes them).
+    // And the public batch forms (the native lanes inside batch_of where it takes them).
     std::vector<Hit<T>> out(in.size());
+    std::vector<Verdict> verdicts(in.size());
     intersect(std::span<const Ray<T>>(in), s, certified, std::span<Hit<T>>(out));
-    for (std::size_t i = 0; i < in.size(); ++i) expect_same(out[i], intersect(in[i], s, certified), i);
+    verdict(std::span<const Ray<T>>(in), s, certified, std::span<Verdict>(verdicts));
+    for (std::size_t i = 0; i < in.size(); ++i) {
+        expect_same(out[i], intersect(in[i], s, certified), i);
+        ASSERT_EQ(verdicts[i], verdict(in[i], s, certified)) << "element " << i << ": " << in[i];
+    }
 }
 
 template <class T> std::vector<Aabb<T>> lane_boxes() {
@@ -221,14 +249,14 @@ template <class T> std::vector<Aabb<T>> lane_boxes() {
 
 TYPED_TEST(Batch, AabbLanesEqualScalarBitForBit) {
     using T = TypeParam;
-    const std::size_t W = detail::batch::kAabbLanes;
+    const std::size_t W = detail::batch::kBatchLanes;
     for (const Aabb<T>& b : lane_boxes<T>())
         for (std::size_t at = 0; at < W; ++at) check_all_forms(lane_rays<T>(11 + at, 96, at), b);
 }
 
 TYPED_TEST(Batch, AabbLanesEveryBatchSize) {
     using T = TypeParam;
-    const std::size_t W = detail::batch::kAabbLanes;
+    const std::size_t W = detail::batch::kBatchLanes;
     const Aabb<T> b{v<T>(-1, -1, -1), v<T>(1, 1, 1)};
     for (std::size_t n : {std::size_t(0), std::size_t(1), W - 1, W, W + 1, 2 * W - 1, 2 * W + 1, 5 * W + 3})
         check_all_forms(lane_rays<T>(n, n, 0), b);
@@ -240,15 +268,15 @@ TYPED_TEST(Batch, AabbLanesEveryBatchSize) {
 // answered in lanes (the rest goes to the scalar query), in both backends. A lane path
 // that declined everything would still equal the scalar answers; this catches it.
 template <class B, class T> void expect_lanes_decide() {
-    const std::size_t W = detail::batch::kAabbLanes;
+    const std::size_t W = detail::batch::kBatchLanes;
     const std::vector<Ray<T>> in = rays<T>(99, 400);
     const Aabb<T> box{v<T>(-1, -1, -1), v<T>(1, 1, 1)};
     std::size_t box_lanes = 0, box_hits = 0, scalar_hits = 0;
     for (std::size_t k = 0; k + W <= in.size(); k += W) {
         for (std::size_t i = 0; i < W; ++i) scalar_hits += intersect(in[k + i], box, certified).verdict == Verdict::hit;
-        detail::batch::AabbBlock<detail::batch::kAabbLanes> g;
+        detail::batch::RayBlock<detail::batch::kBatchLanes> g;
         detail::batch::gather<Ray<T>, T>(in.data() + k, g);
-        detail::batch::AabbDecided<detail::batch::kAabbLanes> d;
+        detail::batch::AabbDecided<detail::batch::kBatchLanes> d;
         detail::batch::aabb_block<B, true>(g, false, box, d);
         box_lanes += std::size_t(std::popcount(d.decided));
         box_hits += std::size_t(std::popcount(d.decided & d.hit));

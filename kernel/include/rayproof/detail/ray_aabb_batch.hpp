@@ -36,6 +36,7 @@
 // The backend B is simd::native in batch_of and simd::portable beside it in the tests.
 #pragma once
 
+#include <rayproof/detail/batch_block.hpp>
 #include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/prepared.hpp>
@@ -51,10 +52,6 @@
 
 namespace rayproof::detail::batch {
 
-// Rays per block: one native register of doubles (2 with SSE2, 4 with AVX2): wider
-// blocks spill the block's many live vectors.
-inline constexpr int kAabbLanes = simd::native_lanes<double, 4>() < 2 ? 2 : simd::native_lanes<double, 4>();
-
 // x_w for w the winning axis per lane: 2 where c2, else 1 where c01, else 0.
 template <class V, class M>
 RAYPROOF_ALWAYS_INLINE V pick3(const M& c01, const M& c2, const V& x0, const V& x1, const V& x2) {
@@ -64,28 +61,6 @@ template <class V> RAYPROOF_ALWAYS_INLINE auto in_correction_range(const V& m, c
     const V am = abs(m), ad = abs(dd);
     return (V::splat(0x1p-400) <= am) & (am <= V::splat(0x1p400)) & (V::splat(0x1p-500) <= ad) &
            (ad <= V::splat(0x1p500));
-}
-
-// The block's rays gathered into lanes: origin, direction, reciprocal, t_min, -t_max.
-template <int W> struct AabbBlock {
-    alignas(32) double o[3][std::size_t(W)];
-    alignas(32) double d[3][std::size_t(W)];
-    alignas(32) double inv[3][std::size_t(W)];
-    alignas(32) double t_min[std::size_t(W)];
-    alignas(32) double t_max[std::size_t(W)];
-};
-
-template <class R, class T, int W> RAYPROOF_ALWAYS_INLINE void gather(const R* rays, AabbBlock<W>& g) {
-    for (int i = 0; i < W; ++i) {
-        const Ray<T>& r = ray_of(rays[i]);
-        for (int a = 0; a < 3; ++a) {
-            g.o[a][i] = double(r.origin[a]);
-            g.d[a][i] = double(r.direction[a]);
-            if constexpr (is_prepared_ray_v<R>) g.inv[a][i] = rays[i].rinv(a);
-        }
-        g.t_min[i] = double(r.t_min);
-        g.t_max[i] = double(r.t_max);
-    }
 }
 
 // The lanes' answers: which lanes are decided, their verdicts, and for the full query
@@ -99,7 +74,7 @@ template <int W> struct AabbDecided {
 
 // Full: the winners and their values too (the verdict query needs only the proofs).
 template <class B, bool Full, class T, int W>
-RAYPROOF_ALWAYS_INLINE void aabb_block(const AabbBlock<W>& g, bool prepared, const Aabb<T>& b, AabbDecided<W>& out) {
+RAYPROOF_ALWAYS_INLINE void aabb_block(const RayBlock<W>& g, bool prepared, const Aabb<T>& b, AabbDecided<W>& out) {
     using V = simd::Vec<double, W, B>;
     using M = simd::Mask<double, W, B>;
     constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022;
@@ -192,8 +167,8 @@ RAYPROOF_ALWAYS_INLINE void aabb_block(const AabbBlock<W>& g, bool prepared, con
 // out[i] = the certified answer (Out = Hit<T>) or verdict (Out = Verdict) for rays[i],
 // the environment already the default one (batch_of).
 template <class B, class R, class T, class Out>
-void aabb_certified(std::span<const R> rays, const PreparedAabb<T>& p, std::span<Out> out) {
-    constexpr int W = kAabbLanes;
+void certified_lanes(std::span<const R> rays, const PreparedAabb<T>& p, std::span<Out> out) {
+    constexpr int W = kBatchLanes;
     constexpr bool full = std::is_same_v<Out, Hit<T>>;
     const auto scalar = [&](std::size_t i) {
         if constexpr (full)
@@ -204,7 +179,7 @@ void aabb_certified(std::span<const R> rays, const PreparedAabb<T>& p, std::span
     const Aabb<T>& b = p.shape;
     const bool box_ok = int(b.lo[0] <= b.hi[0]) & int(b.lo[1] <= b.hi[1]) & int(b.lo[2] <= b.hi[2]);
     const std::size_t n = rays.size(), blocks = box_ok ? n / W * W : 0;
-    AabbBlock<W> g;
+    RayBlock<W> g;
     AabbDecided<W> dec;
     for (std::size_t k = 0; k < blocks; k += W) {
         gather<R, T, W>(rays.data() + k, g);
@@ -233,16 +208,18 @@ void aabb_certified(std::span<const R> rays, const PreparedAabb<T>& p, std::span
     for (std::size_t j = blocks; j < n; ++j) scalar(j);
 }
 
-// The batch_of hook (intersect.hpp), where the lanes pay: the full certified query with
-// four double lanes to a register (AVX2). With SSE2's two, the scalar path already fills
-// the register (its entry and exit problems side by side) and the lanes only add the
-// gather, which measured slower; the verdict alone is as fast per ray in either form.
-// There batch_of keeps the scalar loop, and aabb_certified is reached by the tests.
-template <class R, class T>
-    requires(simd::native_lanes<double, 4>() >= 4)
-RAYPROOF_ALWAYS_INLINE void lane_batch(std::span<const R> rays, const PreparedAabb<T>& p, std::span<Hit<T>> out,
+// The batch_of hook (intersect.hpp): the certified query and verdict, W rays at a time,
+// wherever a native register holds two doubles or more (SSE2, AVX2). Measured in pairs
+// within one program on the bench's batch workload (10,000 uniform rays), the lanes take
+// of the scalar loop's time: in the default x86-64 build (SSE2, two lanes) 0.83× (double
+// rays) and 0.74× (float) for the full query, 0.83× and 0.79× for the verdict; in an
+// AVX2 build (four lanes) 0.51× and 0.45× for the verdict. Without a native register
+// (the portable backend alone) batch_of keeps the scalar loop.
+template <class R, class T, class Out>
+    requires(simd::native_lanes<double, 4>() >= 2 && (std::is_same_v<Out, Hit<T>> || std::is_same_v<Out, Verdict>))
+RAYPROOF_ALWAYS_INLINE void lane_batch(std::span<const R> rays, const PreparedAabb<T>& p, std::span<Out> out,
                                        certified_t) {
-    aabb_certified<simd::native>(rays, p, out);
+    certified_lanes<simd::native>(rays, p, out);
 }
 
 }  // namespace rayproof::detail::batch
