@@ -27,8 +27,10 @@ template <int W> struct RayBlock {
 };
 
 template <class R, class T, int W> RAYPROOF_ALWAYS_INLINE void gather(const R* rays, RayBlock<W>& g) {
+    RAYPROOF_UNROLL_LANES
     for (int i = 0; i < W; ++i) {
         const Ray<T>& r = ray_of(rays[i]);
+        RAYPROOF_UNROLL3
         for (int a = 0; a < 3; ++a) {
             g.o[a][i] = double(r.origin[a]);
             g.d[a][i] = double(r.direction[a]);

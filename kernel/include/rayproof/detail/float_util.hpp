@@ -35,6 +35,16 @@
 #else
 #define RAYPROOF_UNROLL3
 #endif
+// A loop over the W lanes of a batch block (W <= 8) unrolled in full: rolled, g++ -O2
+// keeps the block's lane values in memory (the certified lane batches took 1.3-2× the
+// scalar loop's time at -O2 against 0.65-0.85× unrolled).
+#if defined(__clang__)
+#define RAYPROOF_UNROLL_LANES _Pragma("clang loop unroll(full)")
+#elif defined(__GNUC__)
+#define RAYPROOF_UNROLL_LANES _Pragma("GCC unroll 8")
+#else
+#define RAYPROOF_UNROLL_LANES
+#endif
 
 namespace rayproof::detail {
 

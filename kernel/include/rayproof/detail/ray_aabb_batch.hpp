@@ -82,6 +82,7 @@ RAYPROOF_ALWAYS_INLINE void aabb_block(const RayBlock<W>& g, bool prepared, cons
     constexpr double Kw = K + K * 0x1p-48, etaw = eta + eta * 0x1p-48;
     constexpr bool from_float = std::is_same_v<T, float>;
     V o[3], d[3], inv[3], t_lo[3], t_hn[3], Ve[3], Vx[3];
+    RAYPROOF_UNROLL3
     for (int a = 0; a < 3; ++a) {
         o[a] = V::load(g.o[a]);
         d[a] = V::load(g.d[a]);
@@ -132,6 +133,7 @@ RAYPROOF_ALWAYS_INLINE void aabb_block(const RayBlock<W>& g, bool prepared, cons
         if constexpr (!from_float) {
             // The correction of aabb_certified_common, lane 0 (entry) and lane 1 (exit).
             V lo3[3], hi3[3];
+            RAYPROOF_UNROLL3
             for (int a = 0; a < 3; ++a) {
                 lo3[a] = V::splat(double(b.lo[a]));
                 hi3[a] = V::splat(double(b.hi[a]));
@@ -157,6 +159,7 @@ RAYPROOF_ALWAYS_INLINE void aabb_block(const RayBlock<W>& g, bool prepared, cons
         select(ue < ux, ue, ux).store(out.t_enter);
         ux.store(out.t_exit);
         const std::uint32_t c01 = c01e.bits(), c2 = c2e.bits(), neg = neg_w.bits(), lim = limit_wins_e.bits();
+        RAYPROOF_UNROLL_LANES
         for (int i = 0; i < W; ++i) {
             const int w = ((c2 >> i) & 1) ? 2 : int((c01 >> i) & 1);
             out.face[i] = ((lim >> i) & 1) ? -1 : 2 * w + int((neg >> i) & 1);
@@ -184,6 +187,7 @@ void certified_lanes(std::span<const R> rays, const PreparedAabb<T>& p, std::spa
     for (std::size_t k = 0; k < blocks; k += W) {
         gather<R, T, W>(rays.data() + k, g);
         aabb_block<B, full>(g, is_prepared_ray_v<R>, b, dec);
+        RAYPROOF_UNROLL_LANES
         for (int i = 0; i < W; ++i) {
             const std::size_t j = k + std::size_t(i);
             if (!((dec.decided >> i) & 1)) {
