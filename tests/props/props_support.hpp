@@ -239,6 +239,54 @@ std::optional<ScaledCase<T, Shape>> scaled_case(const gen::Case<T, Shape>& c, st
     return s;
 }
 
+// A certified batch's lane path (detail/ray_aabb_batch.hpp, detail/ray_plane_batch.hpp:
+// detail::batch::certified_lanes) in backend B, called directly (batch_of takes it only
+// where it pays, so the batch property of the Tester may not reach it): for a span of R
+// (Ray or PreparedRay), intersect and verdict, each element equals the scalar certified
+// answer bit for bit (which CertifiedEqualsOracle judges against the exact oracle).
+template <class B, class R, class T, class Shape>
+std::optional<std::string> lanes_equal_scalar(const std::vector<Ray<T>>& in, const Shape& shape) {
+    std::vector<R> rs;
+    for (const Ray<T>& r : in) rs.push_back(R(r));
+    const auto prepared = detail::prepare(shape);
+    std::vector<Hit<T>> hits(rs.size());
+    std::vector<Verdict> verdicts(rs.size());
+    detail::batch::certified_lanes<B>(std::span<const R>(rs), prepared, std::span<Hit<T>>(hits));
+    detail::batch::certified_lanes<B>(std::span<const R>(rs), prepared, std::span<Verdict>(verdicts));
+    for (std::size_t i = 0; i < rs.size(); ++i) {
+        const Hit<T> s = intersect(rs[i], shape, certified);
+        if (!identical(s, hits[i]) || verdicts[i] != s.verdict) {
+            std::ostringstream os;
+            os << (std::is_same_v<B, detail::simd::portable> ? "portable" : "native")
+               << (detail::is_prepared_ray_v<R> ? " prepared" : " ray") << " element " << i << " of " << rs.size()
+               << " " << in[i] << ": lanes " << hits[i] << " / " << verdicts[i] << ", scalar " << s;
+            return os.str();
+        }
+    }
+    return std::nullopt;
+}
+
+// The lane property over the run's cases: the batch is case i's ray followed by more rays
+// of its generator (W to 4W + W - 1 of them, so that the case's ray and its neighbours
+// fill whole blocks and a partial one; shrunk towards W), against case i's shape, in both
+// backends, for Ray and PreparedRay spans.
+template <class T, class Shape> void lane_batch_equals_scalar() {
+    run_cases<T, Shape>([](const auto& d, auto pick) -> std::optional<std::string> {
+        constexpr int W = detail::batch::kBatchLanes;
+        const auto& g = gen::generators<T, Shape>()[d.plan->generator_of(d.index)];
+        const auto n = std::size_t(pick(W + int(d.choice(kBatchSalt) % (4 * W)), W));
+        gen::Rng rng(d.seed());
+        const auto first = g.make(rng);  // == d.c
+        std::vector<Ray<T>> rays{first.ray};
+        while (rays.size() < n) rays.push_back(g.make(rng).ray);
+        namespace simd = detail::simd;
+        if (auto f = lanes_equal_scalar<simd::portable, Ray<T>>(rays, first.shape)) return f;
+        if (auto f = lanes_equal_scalar<simd::native, Ray<T>>(rays, first.shape)) return f;
+        if (auto f = lanes_equal_scalar<simd::portable, PreparedRay<T>>(rays, first.shape)) return f;
+        return lanes_equal_scalar<simd::native, PreparedRay<T>>(rays, first.shape);
+    });
+}
+
 template <class T, class Shape> struct Tester {
     static constexpr bool has_conservative = Answerable<T, Shape, conservative_t>;
     static constexpr bool has_certified = Answerable<T, Shape, certified_t>;

@@ -139,13 +139,15 @@ TYPED_TEST(Batch, InvalidShapeMakesEveryElementInvalid) {
     intersect(std::span<const Ray<T>>(), Aabb<T>{v<T>(0, 0, 0), v<T>(1, 1, 1)}, fast, std::span<Hit<T>>(none));
 }
 
-// --- The lane path (detail/ray_aabb_batch.hpp) -------------------------------------------
-// The certified Aabb batch runs W rays at a time in SIMD lanes and must give
-// every ray the scalar certified answer bit for bit, in both backends (simd::portable and
-// simd::native), for Ray and PreparedRay spans, intersect and verdict, for every batch
-// size around the block width (0, 1, W - 1, W, W + 1, ...) and with each special ray
-// (invalid, ±0, huge and tiny direction components, non-finite, ties, ranges ending on
-// the box) at every lane position of a block.
+// --- The lane paths (detail/ray_aabb_batch.hpp, detail/ray_plane_batch.hpp) -------------
+// The certified Aabb and plane batches run W rays at a time in SIMD lanes (for double
+// rays against a plane, the verdict filter) and must give every ray the scalar certified
+// answer bit for bit, in both backends (simd::portable and simd::native), for Ray and
+// PreparedRay spans, intersect and verdict, for every batch size around the block width
+// (0, 1, W - 1, W, W + 1, ...) and with each special ray (invalid, ±0, huge and tiny
+// direction components, non-finite, ties, ranges ending on the box; for the plane
+// parallel rays on and off it, nearly parallel ones, crossings at t_min, t_max and
+// t = 0) at every lane position of a block.
 namespace {
 
 namespace simd = rayproof::detail::simd;
@@ -182,7 +184,9 @@ template <class T> std::vector<Ray<T>> special_rays() {
 // The rays of rays() with every other one aimed at a point of the box [-0.9, 0.9]^3 (a
 // hit of the unit box, decided in lanes with its winners rounded there), and the special
 // ones placed in turn at every position of the first blocks.
-template <class T> std::vector<Ray<T>> lane_rays(std::uint64_t seed, std::size_t n, std::size_t special_at) {
+template <class T>
+std::vector<Ray<T>> lane_rays(std::uint64_t seed, std::size_t n, std::size_t special_at,
+                              const std::vector<Ray<T>>& s = special_rays<T>()) {
     std::vector<Ray<T>> out = rays<T>(seed, n);
     std::mt19937_64 rng(seed + 1000);
     std::uniform_real_distribution<double> u(-0.9, 0.9);
@@ -190,7 +194,6 @@ template <class T> std::vector<Ray<T>> lane_rays(std::uint64_t seed, std::size_t
         const Vec3<T> target(T(u(rng)), T(u(rng)), T(u(rng)));
         out[i].direction = target - out[i].origin;
     }
-    const std::vector<Ray<T>> s = special_rays<T>();
     for (std::size_t k = 0; k < s.size(); ++k) {
         const std::size_t at = special_at + 3 * k;
         if (at < out.size()) out[at] = s[k];
@@ -294,4 +297,107 @@ template <class B, class T> void expect_lanes_decide() {
 TYPED_TEST(Batch, LanesDecideTheCommonCase) {
     expect_lanes_decide<simd::portable, TypeParam>();
     expect_lanes_decide<simd::native, TypeParam>();
+}
+
+// The plane's lane path (float rays: the enclosure; double rays: the verdict filter).
+// Rays against the plane y = 0.5 (and the others of lane_planes): parallel off and in
+// the plane, nearly parallel, crossing exactly at t_min, at t_max, at t = 0 (the origin
+// on the plane), behind the range, through a whole line, and the invalid and extreme
+// ones of special_rays.
+namespace {
+
+template <class T> std::vector<Ray<T>> plane_special_rays() {
+    std::vector<Ray<T>> s = special_rays<T>();
+    const auto add = [&](Vec3<T> o, Vec3<T> d, T t0 = 0, T t1 = std::numeric_limits<T>::infinity()) {
+        s.push_back(Ray<T>{o, d, t0, t1});
+    };
+    const T inf = std::numeric_limits<T>::infinity();
+    add(v<T>(0, 2, 0), v<T>(1, 0, 3));                  // parallel, off the plane
+    add(v<T>(0, 0.5f, 0), v<T>(1, 0, 3));               // parallel, in the plane
+    add(v<T>(0, 0.5f, 0), v<T>(1, -T(0), 3));           // in the plane, -0
+    add(v<T>(0, 2, 0), v<T>(1, -1e-7f, 0));             // nearly parallel, far crossing
+    add(v<T>(0, 2, 0), v<T>(1, -1e-30f, 0));            // nearly parallel, crossing overflows (float)
+    add(v<T>(0, 1.5f, 0), v<T>(0, -1, 0), T(1), T(3));  // crossing at t_min
+    add(v<T>(0, 1.5f, 0), v<T>(0, -1, 0), T(0), T(1));  // crossing at t_max
+    add(v<T>(0, 1.5f, 0), v<T>(0, -1, 0), T(1), T(1));  // range a point, at the crossing
+    add(v<T>(2, 0.5f, 1), v<T>(1, 1, 1));               // origin on the plane: t = 0
+    add(v<T>(2, 0.5f, 1), v<T>(1, 1, 1), -inf, T(0));   // t = 0 at t_max
+    add(v<T>(0, 3, 0), v<T>(0, 1, 0));                  // crossing behind the origin
+    add(v<T>(0, 3, 0), v<T>(0.1f, 1, 0.2f), -inf, inf); // whole line
+    add(v<T>(0, 1.5f, 0), v<T>(0.3f, -1, 0.7f), T(0), std::nextafter(T(1), T(0)));  // range ends a step short
+    return s;
+}
+
+template <class T> std::vector<Plane<T>> lane_planes() {
+    return {Plane<T>{v<T>(0, 1, 0), T(0.5)}, Plane<T>{v<T>(1, 2, 3), T(0.25)},
+            Plane<T>{v<T>(1e-30f, -2e-30f, 1e-30f), T(1e-31f)}, Plane<T>{v<T>(0.6f, 0, 0.8f), T(1e30f)},
+            Plane<T>{v<T>(3e-38f, 1, 0), T(-0.5)}};
+}
+
+}  // namespace
+
+TYPED_TEST(Batch, PlaneLanesEqualScalarBitForBit) {
+    using T = TypeParam;
+    const std::size_t W = detail::batch::kBatchLanes;
+    const std::vector<Ray<T>> specials = plane_special_rays<T>();
+    for (const Plane<T>& p : lane_planes<T>())
+        for (std::size_t at = 0; at < W; ++at) check_all_forms(lane_rays<T>(21 + at, 128, at, specials), p);
+}
+
+TYPED_TEST(Batch, PlaneLanesEveryBatchSize) {
+    using T = TypeParam;
+    const std::size_t W = detail::batch::kBatchLanes;
+    const Plane<T> p{v<T>(0, 1, 0), T(0.5)};
+    const std::vector<Ray<T>> specials = plane_special_rays<T>();
+    for (std::size_t n : {std::size_t(0), std::size_t(1), W - 1, W, W + 1, 2 * W - 1, 2 * W + 1, 5 * W + 3})
+        check_all_forms(lane_rays<T>(n, n, 0, specials), p);
+    // Invalid planes (a zero normal, an infinite offset): every element invalid.
+    for (const Plane<T>& bad :
+         {Plane<T>{v<T>(0, 0, 0), T(1)}, Plane<T>{v<T>(0, 1, 0), std::numeric_limits<T>::infinity()}}) {
+        const std::vector<Ray<T>> in = rays<T>(6, 2 * W + 1);
+        check_all_forms(in, bad);
+        std::vector<Hit<T>> out(in.size());
+        intersect(std::span<const Ray<T>>(in), bad, certified, std::span<Hit<T>>(out));
+        for (const Hit<T>& h : out) EXPECT_EQ(h.verdict, Verdict::invalid);
+    }
+}
+
+// The plane's lanes decide the common case: on the rays of rays() (less their 10% of
+// invalid ones; the rest cross the plane 0.6x + 0.8y = 0.5 or miss it in general
+// position) most lanes answer in lanes, in both backends and both forms. Float: the
+// enclosure decides hits (with t) and misses, and a lane the full query decides the
+// verdict decides alike. Double: the filter decides the verdicts, the full query
+// answers its misses.
+template <class B, class T> void expect_plane_lanes_decide() {
+    const std::size_t W = detail::batch::kBatchLanes;
+    const std::vector<Ray<T>> in = rays<T>(98, 400);
+    const Plane<T> p{v<T>(0.6f, 0.8f, 0), T(0.5)};
+    std::size_t decided = 0, hits = 0, misses = 0;
+    for (std::size_t k = 0; k + W <= in.size(); k += W) {
+        detail::batch::RayBlock<detail::batch::kBatchLanes> g;
+        detail::batch::gather<Ray<T>, T>(in.data() + k, g);
+        if constexpr (std::is_same_v<T, float>) {
+            detail::batch::PlaneDecided<detail::batch::kBatchLanes> d, dv;
+            detail::batch::plane_block<B, true>(g, p, d);
+            detail::batch::plane_block<B, false>(g, p, dv);
+            EXPECT_EQ(d.decided & ~dv.decided, 0u) << "block at " << k;
+            EXPECT_EQ(d.decided & (d.hit ^ dv.hit), 0u) << "block at " << k;
+            decided += std::size_t(std::popcount(d.decided));
+            hits += std::size_t(std::popcount(d.decided & d.hit));
+            misses += std::size_t(std::popcount(d.decided & ~d.hit));
+        } else {
+            const detail::batch::FilterDecided f = detail::batch::plane_filter_block<B>(g, p);
+            decided += std::size_t(std::popcount(f.decided));
+            hits += std::size_t(std::popcount(f.decided & f.hit));
+            misses += std::size_t(std::popcount(f.decided & ~f.hit));
+        }
+    }
+    EXPECT_GE(decided, in.size() * 4 / 5);
+    EXPECT_GT(hits, in.size() / 5);
+    EXPECT_GT(misses, in.size() / 5);
+}
+
+TYPED_TEST(Batch, PlaneLanesDecideTheCommonCase) {
+    expect_plane_lanes_decide<simd::portable, TypeParam>();
+    expect_plane_lanes_decide<simd::native, TypeParam>();
 }

@@ -14,6 +14,7 @@
 #include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/fp_env.hpp>
 #include <rayproof/detail/ray_aabb_batch.hpp>
+#include <rayproof/detail/ray_plane_batch.hpp>
 #include <rayproof/fp_env_scope.hpp>
 #include <rayproof/prepared_ray.hpp>
 #include <rayproof/ray_aabb.hpp>
@@ -176,9 +177,9 @@ template <template <class> class R, class T, class Shape, class Mode>
 // out.size() == rays.size(); otherwise it throws std::invalid_argument, or, built without
 // exceptions, prints a message on stderr and aborts (detail::batch_size_mismatch). A
 // shape without a prepared-ray path answers each prepared ray through its Ray form. Where
-// it pays (detail/ray_aabb_batch.hpp: the certified Aabb, with SSE2 or AVX2) the batch
-// runs W rays at a time in SIMD lanes (batch::lane_batch), with each ray's scalar answer
-// bit for bit.
+// it pays (the certified Aabb, detail/ray_aabb_batch.hpp, and the certified plane for
+// float rays, detail/ray_plane_batch.hpp, with SSE2 or AVX2) the batch runs W rays at a
+// time in SIMD lanes (batch::lane_batch), with each ray's scalar answer bit for bit.
 namespace detail {
 template <class R, class T, class Shape, class Mode, class Out, class Query>
 void batch_of(std::span<const R> rays, const Shape& shape, std::span<Out> out, const char* mismatch, Query query_one) {
@@ -188,7 +189,7 @@ void batch_of(std::span<const R> rays, const Shape& shape, std::span<Out> out, c
     } else {
         const auto batch = [](std::span<const R> r, const Shape& s, std::span<Out> o) noexcept {
             const auto prepared = prepare(s);
-            // A shape with a lane path for this mode (detail/ray_aabb_batch.hpp) answers
+            // A shape with a lane path for this mode (detail/ray_*_batch.hpp) answers
             // W rays at a time, with the scalar answers bit for bit.
             if constexpr (requires { batch::lane_batch(r, prepared, o, Mode{}); }) {
                 batch::lane_batch(r, prepared, o, Mode{});

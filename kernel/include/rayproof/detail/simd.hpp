@@ -1,6 +1,6 @@
 // rayproof/detail/simd.hpp — a small fixed-width vector of W floats or doubles for the
-// box packets (ray_aabb_packet.hpp) and the certified box batch (ray_aabb_batch.hpp), in
-// two backends with one interface:
+// box packets (ray_aabb_packet.hpp) and the certified batches (ray_aabb_batch.hpp,
+// ray_plane_batch.hpp), in two backends with one interface:
 //   portable — plain arrays, one scalar operation per lane; always compiled;
 //   native   — SSE2 registers (double×2, float×4) on x86-64, AVX2 registers (double×4,
 //              float×8) where the compiler targets AVX2 (__AVX2__); a vector of W lanes
