@@ -9,6 +9,8 @@
 #include <rayproof/types.hpp>
 
 #include <cstddef>
+#include <span>
+#include <type_traits>
 
 namespace rayproof::detail::batch {
 
@@ -39,6 +41,39 @@ template <class R, class T, int W> RAYPROOF_ALWAYS_INLINE void gather(const R* r
         g.t_min[i] = double(r.t_min);
         g.t_max[i] = double(r.t_max);
     }
+}
+
+// Whether batch_of takes the lane paths: where a native register holds two doubles or
+// more (SSE2, AVX2); with the portable backend alone it keeps the scalar loop.
+inline constexpr bool kLanesPay = simd::native_lanes<double, 4>() >= 2;
+
+// What a lane path answers: the certified query (Hit<T>) or the verdict alone.
+template <class Out, class T>
+concept CertifiedOut = std::is_same_v<Out, Hit<T>> || std::is_same_v<Out, Verdict>;
+
+// out = the scalar certified answer (Out = Hit<T>) or verdict (Out = Verdict) of ray r
+// against the prepared shape p: what a lane path gives every ray it does not decide.
+template <class R, class P, class Out> void scalar_certified(const R& r, const P& p, Out& out) {
+    if constexpr (std::is_same_v<Out, Verdict>)
+        out = verdict_query(r, p, certified_t{});
+    else
+        out = query(r, p, certified_t{});
+}
+
+// The loop of a lane path: every whole block of W rays (when shape_ok) gathered and
+// handed to block(k, g), which answers out[k], ..., out[k + W - 1]; the rays of a last,
+// partial block, and every ray when !shape_ok, by scalar_certified.
+template <class T, class R, class P, class Out, class Block>
+RAYPROOF_ALWAYS_INLINE void for_each_block(std::span<const R> rays, const P& p, std::span<Out> out, bool shape_ok,
+                                           Block&& block) {
+    constexpr int W = kBatchLanes;
+    const std::size_t n = rays.size(), blocks = shape_ok ? n / W * W : 0;
+    RayBlock<W> g;
+    for (std::size_t k = 0; k < blocks; k += W) {
+        gather<R, T, W>(rays.data() + k, g);
+        block(k, g);
+    }
+    for (std::size_t j = blocks; j < n; ++j) scalar_certified(rays[j], p, out[j]);
 }
 
 }  // namespace rayproof::detail::batch

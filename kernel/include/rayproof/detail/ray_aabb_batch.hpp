@@ -172,30 +172,18 @@ RAYPROOF_ALWAYS_INLINE void aabb_block(const RayBlock<W>& g, bool prepared, cons
 template <class B, class R, class T, class Out>
 void certified_lanes(std::span<const R> rays, const PreparedAabb<T>& p, std::span<Out> out) {
     constexpr int W = kBatchLanes;
-    constexpr bool full = std::is_same_v<Out, Hit<T>>;
-    const auto scalar = [&](std::size_t i) {
-        if constexpr (full)
-            out[i] = query(rays[i], p, certified_t{});
-        else
-            out[i] = verdict_query(rays[i], p, certified_t{});
-    };
     const Aabb<T>& b = p.shape;
     const bool box_ok = int(b.lo[0] <= b.hi[0]) & int(b.lo[1] <= b.hi[1]) & int(b.lo[2] <= b.hi[2]);
-    const std::size_t n = rays.size(), blocks = box_ok ? n / W * W : 0;
-    RayBlock<W> g;
-    AabbDecided<W> dec;
-    for (std::size_t k = 0; k < blocks; k += W) {
-        gather<R, T, W>(rays.data() + k, g);
-        aabb_block<B, full>(g, is_prepared_ray_v<R>, b, dec);
+    for_each_block<T>(rays, p, out, box_ok, [&](std::size_t k, const RayBlock<W>& g) RAYPROOF_INLINE_LAMBDA {
+        AabbDecided<W> dec;
+        aabb_block<B, std::is_same_v<Out, Hit<T>>>(g, is_prepared_ray_v<R>, b, dec);
         RAYPROOF_UNROLL_LANES
         for (int i = 0; i < W; ++i) {
             const std::size_t j = k + std::size_t(i);
-            if (!((dec.decided >> i) & 1)) {
-                scalar(j);
-                continue;
-            }
             const bool hit = (dec.hit >> i) & 1;
-            if constexpr (full) {
+            if (!((dec.decided >> i) & 1)) {
+                scalar_certified(rays[j], p, out[j]);
+            } else if constexpr (std::is_same_v<Out, Hit<T>>) {
                 // Branch-free (hits and misses are as random as the rays): a miss is
                 // Hit<T>{}, as on every certified path.
                 Hit<T> h;
@@ -208,8 +196,7 @@ void certified_lanes(std::span<const R> rays, const PreparedAabb<T>& p, std::spa
                 out[j] = Verdict(int(hit));
             }
         }
-    }
-    for (std::size_t j = blocks; j < n; ++j) scalar(j);
+    });
 }
 
 // The batch_of hook (intersect.hpp): the certified query and verdict, W rays at a time,
@@ -219,8 +206,8 @@ void certified_lanes(std::span<const R> rays, const PreparedAabb<T>& p, std::spa
 // rays) and 0.74× (float) for the full query, 0.83× and 0.79× for the verdict; in an
 // AVX2 build (four lanes) 0.51× and 0.45× for the verdict. Without a native register
 // (the portable backend alone) batch_of keeps the scalar loop.
-template <class R, class T, class Out>
-    requires(simd::native_lanes<double, 4>() >= 2 && (std::is_same_v<Out, Hit<T>> || std::is_same_v<Out, Verdict>))
+template <class R, class T, CertifiedOut<T> Out>
+    requires kLanesPay
 RAYPROOF_ALWAYS_INLINE void lane_batch(std::span<const R> rays, const PreparedAabb<T>& p, std::span<Out> out,
                                        certified_t) {
     certified_lanes<simd::native>(rays, p, out);

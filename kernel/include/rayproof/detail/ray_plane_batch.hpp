@@ -154,33 +154,20 @@ template <class B, class R, class T, class Out>
 void certified_lanes(std::span<const R> rays, const PreparedPlane<T>& p, std::span<Out> out) {
     constexpr int W = kBatchLanes;
     constexpr bool full = std::is_same_v<Out, Hit<T>>;
-    const auto scalar = [&](std::size_t i) {
-        if constexpr (full)
-            out[i] = query(rays[i], p, certified_t{});
-        else
-            out[i] = verdict_query(rays[i], p, certified_t{});
-    };
-    const std::size_t n = rays.size(), blocks = p.ok ? n / W * W : 0;
-    RayBlock<W> g;
-    for (std::size_t k = 0; k < blocks; k += W) {
-        gather<R, T, W>(rays.data() + k, g);
+    for_each_block<T>(rays, p, out, p.ok, [&](std::size_t k, const RayBlock<W>& g) RAYPROOF_INLINE_LAMBDA {
         if constexpr (std::is_same_v<T, double>) {
+            // The filter's verdicts: the full query answers its misses, the verdict all.
             const FilterDecided f = plane_filter_block<B>(g, p.shape);
             RAYPROOF_UNROLL_LANES
             for (int i = 0; i < W; ++i) {
                 const std::size_t j = k + std::size_t(i);
                 const bool decided = (f.decided >> i) & 1, hit = (f.hit >> i) & 1;
-                if constexpr (full) {
-                    if (decided & !hit)
-                        out[j] = Hit<T>{};
-                    else
-                        scalar(j);
-                } else {
-                    if (decided)
-                        out[j] = Verdict(int(hit));
-                    else
-                        scalar(j);
-                }
+                if (!(decided & (!full | !hit)))
+                    scalar_certified(rays[j], p, out[j]);
+                else if constexpr (full)
+                    out[j] = Hit<T>{};
+                else
+                    out[j] = Verdict(int(hit));
             }
         } else {
             PlaneDecided<W> dec;
@@ -188,12 +175,10 @@ void certified_lanes(std::span<const R> rays, const PreparedPlane<T>& p, std::sp
             RAYPROOF_UNROLL_LANES
             for (int i = 0; i < W; ++i) {
                 const std::size_t j = k + std::size_t(i);
-                if (!((dec.decided >> i) & 1)) {
-                    scalar(j);
-                    continue;
-                }
                 const bool hit = (dec.hit >> i) & 1;
-                if constexpr (full) {
+                if (!((dec.decided >> i) & 1)) {
+                    scalar_certified(rays[j], p, out[j]);
+                } else if constexpr (full) {
                     // hit_when, as the scalar query answers from the enclosure (a miss is
                     // Hit<float>{}); t is the one float both ends round to.
                     const float t = nearest_float(dec.lo[i], dec.hi[i], true).t;
@@ -203,8 +188,7 @@ void certified_lanes(std::span<const R> rays, const PreparedPlane<T>& p, std::sp
                 }
             }
         }
-    }
-    for (std::size_t j = blocks; j < n; ++j) scalar(j);
+    });
 }
 
 // The batch_of hook (intersect.hpp): rays against a plane, certified, where a native
@@ -213,8 +197,8 @@ void certified_lanes(std::span<const R> rays, const PreparedPlane<T>& p, std::sp
 // take of the scalar loop's time: in the default x86-64 build (SSE2) 0.65× (float rays)
 // and 0.93× (double: the hits' pinned t dominates) for the full query, 0.62× and 0.78×
 // for the verdict; float rays in an AVX2 build 0.35× and 0.38×.
-template <class R, class T, class Out>
-    requires(simd::native_lanes<double, 4>() >= 2 && (std::is_same_v<Out, Hit<T>> || std::is_same_v<Out, Verdict>))
+template <class R, class T, CertifiedOut<T> Out>
+    requires kLanesPay
 RAYPROOF_ALWAYS_INLINE void lane_batch(std::span<const R> rays, const PreparedPlane<T>& p, std::span<Out> out,
                                        certified_t) {
     certified_lanes<simd::native>(rays, p, out);
