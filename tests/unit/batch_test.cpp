@@ -178,6 +178,11 @@ template <class T> std::vector<Ray<T>> special_rays() {
     add(v<T>(0.5, 0.5, 0.5), v<T>(-1, 2, -3));                // origin inside
     add(v<T>(2, 2, 2), v<T>(1, 1, 1));                        // moving away
     add(v<T>(-1, -1, -1), v<T>(1, 2, 3), -inf, T(0));         // starts on a corner, range to it
+    // Float rays whose t lies beyond the largest float (faithful_to answers that float):
+    // the exit only, both ends, and both ends on either side of the origin.
+    add(v<T>(-3, 0, 0), v<T>(T(1e-38f), T(1e-40f), T(1e-40f)));
+    add(v<T>(-3, 0, 0), v<T>(T(5e-39f), T(1e-40f), T(1e-40f)));
+    add(v<T>(0, 0, 0), v<T>(T(1e-39f), T(1e-40f), T(1e-40f)), -inf, inf);
     return s;
 }
 

@@ -47,6 +47,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <type_traits>
 
@@ -64,7 +65,8 @@ template <class V> RAYPROOF_ALWAYS_INLINE auto in_correction_range(const V& m, c
 }
 
 // The lanes' answers: which lanes are decided, their verdicts, and for the full query
-// the fields (in double, before faithful_to) and the face.
+// the fields (in double; for float rays clamped to the floats' range, faithful_to's
+// clamp) and the face.
 template <int W> struct AabbDecided {
     std::uint32_t decided, hit;
     alignas(32) double t_enter[std::size_t(W)];
@@ -155,9 +157,16 @@ RAYPROOF_ALWAYS_INLINE void aabb_block(const RayBlock<W>& g, bool prepared, cons
         out.hit = hit.bits();
         // (t_enter, t_exit) as aabb_certified_common: max(tc, limit), the exit negated
         // back, + 0.0, then t_enter = min(t_enter, t_exit).
+        // For float rays, faithful_to's clamp to the floats' range here in the lanes.
         const V ue = max(tce, limit_e) + zero, ux = -max(tcx, limit_x) + zero;
-        select(ue < ux, ue, ux).store(out.t_enter);
-        ux.store(out.t_exit);
+        V te = select(ue < ux, ue, ux), tx = ux;
+        if constexpr (from_float) {
+            const V big = V::splat(double(std::numeric_limits<float>::max()));
+            te = min(max(te, -big), big);
+            tx = min(max(tx, -big), big);
+        }
+        te.store(out.t_enter);
+        tx.store(out.t_exit);
         const std::uint32_t c01 = c01e.bits(), c2 = c2e.bits(), neg = neg_w.bits(), lim = limit_wins_e.bits();
         RAYPROOF_UNROLL_LANES
         for (int i = 0; i < W; ++i) {
@@ -184,14 +193,12 @@ void certified_lanes(std::span<const R> rays, const PreparedAabb<T>& p, std::spa
             if (!((dec.decided >> i) & 1)) {
                 scalar_certified(rays[j], p, out[j]);
             } else if constexpr (std::is_same_v<Out, Hit<T>>) {
-                // Branch-free (hits and misses are as random as the rays): a miss is
-                // Hit<T>{}, as on every certified path.
-                Hit<T> h;
-                h.verdict = Verdict(int(hit));
-                h.t_enter = hit ? faithful_to<T>(dec.t_enter[i]) : T(0);
-                h.t_exit = hit ? faithful_to<T>(dec.t_exit[i]) : T(0);
-                h.face = hit ? dec.face[i] : -1;
-                out[j] = h;
+                // Without a branch (hit_when picks): hits and misses are as random as
+                // the rays, and the ternaries written here before became a jump that
+                // fresh rays mispredicted (a float ray then cost 1.4× the scalar loop's
+                // time, measured in pairs). A miss is Hit<T>{}, as on every certified
+                // path; the lanes clamped t to T's range, so narrow is faithful_to.
+                out[j] = hit_when(hit, narrow<T>(dec.t_enter[i]), narrow<T>(dec.t_exit[i]), dec.face[i]);
             } else {
                 out[j] = Verdict(int(hit));
             }
@@ -200,12 +207,13 @@ void certified_lanes(std::span<const R> rays, const PreparedAabb<T>& p, std::spa
 }
 
 // The batch_of hook (intersect.hpp): the certified query and verdict, W rays at a time,
-// wherever a native register holds two doubles or more (SSE2, AVX2). Measured in pairs
-// within one program on the bench's batch workload (10,000 uniform rays), the lanes take
-// of the scalar loop's time: in the default x86-64 build (SSE2, two lanes) 0.83× (double
-// rays) and 0.74× (float) for the full query, 0.83× and 0.79× for the verdict; in an
-// AVX2 build (four lanes) 0.51× and 0.45× for the verdict. Without a native register
-// (the portable backend alone) batch_of keeps the scalar loop.
+// wherever a native register holds two doubles or more (SSE2, AVX2; kLanesPay). Measured
+// in pairs within one program on the bench's batch workload, 1,000,000 uniform rays
+// answered in calls of 10,000 (fresh rays in every call: on the same rays again and
+// again the branch predictor learns their outcomes), the lanes take of the scalar loop's
+// time at -O2: in the default x86-64 build (SSE2, two lanes) 0.80× (double rays) and
+// 0.93-0.96× (float) for the full query, 0.76× and 0.79× for the verdict; in an AVX2
+// build (four lanes) 0.53× and 0.55× for the full query, 0.52× and 0.47× for the verdict.
 template <class R, class T, CertifiedOut<T> Out>
     requires kLanesPay
 RAYPROOF_ALWAYS_INLINE void lane_batch(std::span<const R> rays, const PreparedAabb<T>& p, std::span<Out> out,
