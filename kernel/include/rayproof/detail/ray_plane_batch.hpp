@@ -52,11 +52,11 @@
 namespace rayproof::detail::batch {
 
 // The lanes' answers: which lanes are decided, which of them hit (full query: inside
-// with its ends rounding to one float; verdict: inside), and the enclosures.
+// with its ends rounding to one float; verdict: inside), and for the full query each
+// lane's t, the float both ends round to where they do (nearest_float).
 template <int W> struct PlaneDecided {
     std::uint32_t decided, hit;
-    alignas(32) double lo[std::size_t(W)];
-    alignas(32) double hi[std::size_t(W)];
+    float t[std::size_t(W)];
 };
 
 // Full: the hit lanes need their ends to round to one float (the full query's t).
@@ -93,12 +93,17 @@ RAYPROOF_ALWAYS_INLINE void plane_block(const RayBlock<W>& g, const Plane<float>
     const M inside = (t_min <= lo) & (hi <= t_max), outside = (hi < t_min) | (t_max < lo);
     const std::uint32_t usable = (ok & range).bits();
     if constexpr (Full) {
-        lo.store(out.lo);
-        hi.store(out.hi);
+        alignas(32) double lo_i[std::size_t(W)], hi_i[std::size_t(W)];
+        lo.store(lo_i);
+        hi.store(hi_i);
         // nearest_float per lane: the inside lanes whose ends round to one float
         std::uint32_t one_float = 0;
         RAYPROOF_UNROLL_LANES
-        for (int i = 0; i < W; ++i) one_float |= std::uint32_t(nearest_float(out.lo[i], out.hi[i], true).ok) << i;
+        for (int i = 0; i < W; ++i) {
+            const Pinned<float> f1 = nearest_float(lo_i[i], hi_i[i], true);
+            out.t[i] = f1.t;
+            one_float |= std::uint32_t(f1.ok) << i;
+        }
         const std::uint32_t in = inside.bits() & one_float;
         out.decided = usable & (in | outside.bits());
         out.hit = in;
@@ -181,8 +186,7 @@ void certified_lanes(std::span<const R> rays, const PreparedPlane<T>& p, std::sp
                 } else if constexpr (full) {
                     // hit_when, as the scalar query answers from the enclosure (a miss is
                     // Hit<float>{}); t is the one float both ends round to.
-                    const float t = nearest_float(dec.lo[i], dec.hi[i], true).t;
-                    out[j] = hit_when(hit, t, t);
+                    out[j] = hit_when(hit, dec.t[i], dec.t[i]);
                 } else {
                     out[j] = Verdict(int(hit));
                 }
