@@ -177,9 +177,10 @@ template <template <class> class R, class T, class Shape, class Mode>
 // out.size() == rays.size(); otherwise it throws std::invalid_argument, or, built without
 // exceptions, prints a message on stderr and aborts (detail::batch_size_mismatch). A
 // shape without a prepared-ray path answers each prepared ray through its Ray form. Where
-// it pays (the certified Aabb, detail/ray_aabb_batch.hpp, and the certified plane for
-// float rays, detail/ray_plane_batch.hpp, with SSE2 or AVX2) the batch runs W rays at a
-// time in SIMD lanes (batch::lane_batch), with each ray's scalar answer bit for bit.
+// it pays (the certified Aabb, detail/ray_aabb_batch.hpp, and the certified plane,
+// detail/ray_plane_batch.hpp: its enclosure for float rays, its verdict filter for double
+// rays; with SSE2 or AVX2) the batch runs W rays at a time in SIMD lanes
+// (batch::lane_batch), with each ray's scalar answer bit for bit.
 namespace detail {
 template <class R, class T, class Shape, class Mode, class Out, class Query>
 void batch_of(std::span<const R> rays, const Shape& shape, std::span<Out> out, const char* mismatch, Query query_one) {

@@ -1,7 +1,10 @@
-// rayproof/detail/batch_block.hpp — a block of W rays of a batch gathered into
-// structure-of-arrays lanes for the SIMD batch paths (ray_aabb_batch.hpp,
-// ray_plane_batch.hpp): every value widened to double, which is exact for float and
-// double input alike, so the lanes compute from the very values the scalar queries do.
+// rayproof/detail/batch_block.hpp — what the SIMD batch paths (ray_aabb_batch.hpp,
+// ray_plane_batch.hpp) share: a block of W rays of a batch gathered into
+// structure-of-arrays lanes (RayBlock, gather: every value widened to double, which is
+// exact for float and double input alike, so the lanes compute from the very values the
+// scalar queries do), the loop over the blocks (for_each_block) and the scalar certified
+// query that answers what a block leaves undecided and the rays of a last, partial block
+// (scalar_certified).
 #pragma once
 
 #include <rayproof/detail/simd.hpp>
