@@ -643,7 +643,8 @@ std::string batch_table(const Report& r) {
                 }
                 if (timed) o += row(cells);
             }
-    return prose()("batch", {{"table", o}});
+    // The largest batch is the pool every size takes its calls' rays from (bench_common.hpp).
+    return prose()("batch", {{"table", o}, {"pool", batch_size(sizes.back())}});
 }
 
 // The environment guard's cost (bench/fp_env_bench.cpp): per shape, type and guarded
