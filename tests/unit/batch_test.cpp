@@ -367,6 +367,21 @@ TYPED_TEST(Batch, PlaneLanesEveryBatchSize) {
     }
 }
 
+// Batches over several of for_each_block's chunks (the double plane's full query lists
+// each chunk's undecided rays, its hits, and answers them after the chunk's blocks), with
+// the special rays across a chunk's boundary and a last, partial block: every element
+// the scalar answer, for both shapes.
+TYPED_TEST(Batch, LanesAcrossChunks) {
+    using T = TypeParam;
+    const std::size_t W = detail::batch::kBatchLanes, chunk = detail::batch::kFallbackChunk;
+    const std::size_t n = 2 * chunk + 2 * W + 1;
+    for (const std::size_t at : {chunk - 40, 2 * chunk - 30}) {
+        check_all_forms(lane_rays<T>(31 + at, n, at, plane_special_rays<T>()), Plane<T>{v<T>(0, 1, 0), T(0.5)});
+        check_all_forms(lane_rays<T>(41 + at, n, at, plane_special_rays<T>()), Plane<T>{v<T>(0.6f, 0, 0.8f), T(0.25)});
+        check_all_forms(lane_rays<T>(51 + at, n, at), Aabb<T>{v<T>(-1, -1, -1), v<T>(1, 1, 1)});
+    }
+}
+
 // The plane's lanes decide the common case: on the rays of rays() (less their 10% of
 // invalid ones; the rest cross the plane 0.6x + 0.8y = 0.5 or miss it in general
 // position) most lanes answer in lanes, in both backends and both forms. Float: the

@@ -183,16 +183,14 @@ void certified_lanes(std::span<const R> rays, const PreparedAabb<T>& p, std::spa
     constexpr int W = kBatchLanes;
     const Aabb<T>& b = p.shape;
     const bool box_ok = int(b.lo[0] <= b.hi[0]) & int(b.lo[1] <= b.hi[1]) & int(b.lo[2] <= b.hi[2]);
-    for_each_block<T>(rays, p, out, box_ok, [&](std::size_t k, const RayBlock<W>& g) RAYPROOF_INLINE_LAMBDA {
+    for_each_block<T, false>(rays, p, out, box_ok, [&](std::size_t k, const RayBlock<W>& g) RAYPROOF_INLINE_LAMBDA {
         AabbDecided<W> dec;
         aabb_block<B, std::is_same_v<Out, Hit<T>>>(g, is_prepared_ray_v<R>, b, dec);
         RAYPROOF_UNROLL_LANES
         for (int i = 0; i < W; ++i) {
             const std::size_t j = k + std::size_t(i);
             const bool hit = (dec.hit >> i) & 1;
-            if (!((dec.decided >> i) & 1)) {
-                scalar_certified(rays[j], p, out[j]);
-            } else if constexpr (std::is_same_v<Out, Hit<T>>) {
+            if constexpr (std::is_same_v<Out, Hit<T>>) {
                 // Without a branch (hit_when picks): hits and misses are as random as
                 // the rays, and the ternaries written here before became a jump that
                 // fresh rays mispredicted (a float ray then cost 1.4× the scalar loop's
@@ -203,6 +201,7 @@ void certified_lanes(std::span<const R> rays, const PreparedAabb<T>& p, std::spa
                 out[j] = Verdict(int(hit));
             }
         }
+        return ~dec.decided & ((1u << W) - 1u);
     });
 }
 

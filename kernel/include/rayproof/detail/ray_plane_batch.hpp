@@ -159,21 +159,23 @@ template <class B, class R, class T, class Out>
 void certified_lanes(std::span<const R> rays, const PreparedPlane<T>& p, std::span<Out> out) {
     constexpr int W = kBatchLanes;
     constexpr bool full = std::is_same_v<Out, Hit<T>>;
-    for_each_block<T>(rays, p, out, p.ok, [&](std::size_t k, const RayBlock<W>& g) RAYPROOF_INLINE_LAMBDA {
+    // Double rays' full query leaves every hit to the scalar query: about half the rays.
+    constexpr bool defer = std::is_same_v<T, double> && full;
+    for_each_block<T, defer>(rays, p, out, p.ok, [&](std::size_t k, const RayBlock<W>& g) RAYPROOF_INLINE_LAMBDA {
         if constexpr (std::is_same_v<T, double>) {
             // The filter's verdicts: the full query answers its misses, the verdict all.
             const FilterDecided f = plane_filter_block<B>(g, p.shape);
             RAYPROOF_UNROLL_LANES
             for (int i = 0; i < W; ++i) {
                 const std::size_t j = k + std::size_t(i);
-                const bool decided = (f.decided >> i) & 1, hit = (f.hit >> i) & 1;
-                if (!(decided & (!full | !hit)))
-                    scalar_certified(rays[j], p, out[j]);
-                else if constexpr (full)
+                if constexpr (full)
                     out[j] = Hit<T>{};
                 else
-                    out[j] = Verdict(int(hit));
+                    out[j] = Verdict(int((f.hit >> i) & 1));
             }
+            // Left to the scalar query: the undecided lanes, and the full query's hits.
+            const std::uint32_t answered = full ? f.decided & ~f.hit : f.decided;
+            return ~answered & ((1u << W) - 1u);
         } else {
             PlaneDecided<W> dec;
             plane_block<B, full>(g, p.shape, dec);
@@ -181,9 +183,7 @@ void certified_lanes(std::span<const R> rays, const PreparedPlane<T>& p, std::sp
             for (int i = 0; i < W; ++i) {
                 const std::size_t j = k + std::size_t(i);
                 const bool hit = (dec.hit >> i) & 1;
-                if (!((dec.decided >> i) & 1)) {
-                    scalar_certified(rays[j], p, out[j]);
-                } else if constexpr (full) {
+                if constexpr (full) {
                     // hit_when, as the scalar query answers from the enclosure (a miss is
                     // Hit<float>{}); t is the one float both ends round to.
                     out[j] = hit_when(hit, dec.t[i], dec.t[i]);
@@ -191,16 +191,19 @@ void certified_lanes(std::span<const R> rays, const PreparedPlane<T>& p, std::sp
                     out[j] = Verdict(int(hit));
                 }
             }
+            return ~dec.decided & ((1u << W) - 1u);
         }
     });
 }
 
 // The batch_of hook (intersect.hpp): rays against a plane, certified, where a native
-// register holds two doubles or more (SSE2, AVX2). Measured in pairs within one program
-// on the bench's batch workload (10,000 uniform rays, half of them misses), the lanes
-// take of the scalar loop's time: in the default x86-64 build (SSE2) 0.65× (float rays)
-// and 0.93× (double: the hits' pinned t dominates) for the full query, 0.62× and 0.78×
-// for the verdict; float rays in an AVX2 build 0.35× and 0.38×.
+// register holds two doubles or more (SSE2, AVX2; kLanesPay). Measured in pairs within
+// one program on the bench's batch workload (uniform rays, half of them misses),
+// 1,000,000 rays in calls of 10,000 (fresh rays in every call), -O2, the lanes take of
+// the scalar loop's time: in the default x86-64 build (SSE2) 0.64× (float rays) and
+// 0.71× (double: the hits' pinned t dominates) for the full query, 0.60× and 0.75× for
+// the verdict; in an AVX2 build 0.59× and 0.68× for the full query, 0.42× and 0.56× for
+// the verdict.
 template <class R, class T, CertifiedOut<T> Out>
     requires kLanesPay
 RAYPROOF_ALWAYS_INLINE void lane_batch(std::span<const R> rays, const PreparedPlane<T>& p, std::span<Out> out,
