@@ -222,7 +222,13 @@ RAYPROOF_ALWAYS_INLINE FastLanes<T, W, B> fast_lanes(const PreparedRay<T>& pr, c
         ok = ok & (lo <= hi);
         const bool neg = pr.negative(i);
         const V inv = V::splat(pr.inv(i));
-        const V tn = ((neg ? hi : lo) - o) * inv, tf = ((neg ? lo : hi) - o) * inv;
+        // Near and far slab values by min and max, not by the ray's sign: a ternary on the
+        // sign became a jump per axis that fresh rays mispredict (measured, float W = 8,
+        // fresh pairs: 1.7 ns a box test with it, 0.95 without). They are the same values:
+        // a NaN (lo or hi NaN, or 0·inf when inv is infinite) drops the lane through
+        // lo <= hi or the probe, since the other value of the axis is then infinite or NaN.
+        const V t1 = (lo - o) * inv, t2 = (hi - o) * inv;
+        const V tn = min(t1, t2), tf = max(t1, t2);
         sum = sum + (tn + tf);
         if constexpr (Face) l.face = select(tn > l.enter, V::splat(T(2 * i + int(neg))), l.face);
         l.enter = max(tn, l.enter);
@@ -295,8 +301,12 @@ RAYPROOF_ALWAYS_INLINE Filtered<E, B, T, W> filter(const PreparedRay<T>& pr, con
         f.ok = f.ok & (lo <= hi);
         const bool neg = pr.negative(i);
         const V inv = V::splat(reciprocal<E>(pr, i));
-        // Class C3 (eft.hpp): the probe and the bounds see these very values.
-        const V tn = rounded(((neg ? hi : lo) - o) * inv), tf = rounded(((neg ? lo : hi) - o) * inv);
+        // Class C3 (eft.hpp): the probe and the bounds see these very values. The near and
+        // far planes by a vector select on the reciprocal's sign (the sign of d_i, d_i != 0
+        // here), which picks the values the ternary on `neg` did, without its jump (fresh
+        // pairs, float W = 8: 2.5 ns a box test with the jump, 1.6 without).
+        const auto negm = inv < V::splat(E(0));
+        const V tn = rounded((select(negm, hi, lo) - o) * inv), tf = rounded((select(negm, lo, hi) - o) * inv);
         sum = sum + (tn + tf);
         if constexpr (Conservative) {
             const V lo_n = tn - (abs(tn) * K + eta), hi_f = tf + (abs(tf) * K + eta);
