@@ -13,7 +13,11 @@
 // For the float packets (ray_aabb_packet.hpp) the same reciprocals rounded to float,
 // finv_i = fl_float(1/d_i), are kept too: two roundings, |finv_i - 1/d_i| <= gamma_f(2)
 // |1/d_i| (u_f = 2^-24, the double quotient then its rounding to float; no double
-// rounding issue for the bound, which counts both), used only by fast-mode lanes.
+// rounding issue for the bound, which counts both), used by the fast lanes and by the
+// certified packets' float filter, whose bound counts both roundings. Which arithmetic
+// a packet's or a BVH node's filter may take the ray into is decided here too
+// (reciprocals_usable_in<E>): every axis parallel, or with its reciprocal in E normal and
+// finite; the packets used to decide it again for every packet.
 //
 // Every query that takes a Ray also takes a PreparedRay and answers the same: in
 // certified mode bit for bit (verdict, t_enter, t_exit, face); in conservative mode
@@ -37,6 +41,7 @@
 #include <cmath>
 #include <concepts>
 #include <limits>
+#include <type_traits>
 
 namespace rayproof {
 
@@ -65,6 +70,16 @@ public:
     // The ray is valid and every fl(1/d_i) is normal and finite: the relative bound u
     // above holds on all three axes.
     [[nodiscard]] bool reciprocals_normal() const noexcept { return k_.normal; }
+    // Every axis parallel (d_i = ±0) or with its reciprocal in E normal and finite: in
+    // double rinv_i, in float fl_float(rinv_i) (= inv(i) for a float ray). The box
+    // packets' and the BVH's filters in E take the ray into their lanes only then
+    // (ray_aabb_packet.hpp: the relative bound of the reciprocal holds on every axis that
+    // is not parallel). Independent of the range and of the origin.
+    template <class E> [[nodiscard]] bool reciprocals_usable_in() const noexcept {
+        static_assert(is_scalar_v<E>, "reciprocals_usable_in<E>: E is float or double");
+        if constexpr (std::is_same_v<E, double>) return k_.usable_double;
+        else return k_.usable_float;
+    }
 
     // The same ray on [t_min, t_max] instead: the reciprocals and the origin's and
     // direction's checks kept, validity re-decided for the new range (valid_range:
@@ -89,6 +104,7 @@ private:
         bool normal;
         bool valid_apart_from_range;   // the origin finite, the direction finite and nonzero
         bool normal_apart_from_range;  // every fl(1/d_i) normal and finite
+        bool usable_double, usable_float;  // reciprocals_usable_in<double>, <float>
     };
     static Decided decide(const Ray<T>& ray) noexcept {
         Decided k;
@@ -96,7 +112,7 @@ private:
         const T* dir = ray.direction.data();
         k.valid_apart_from_range = bool(int(detail::finite_probe(ray.origin.data()) == 0) &
                                         int(detail::finite_probe(dir) == 0) & int(detail::nonzero3(dir)));
-        bool normal = true;
+        bool normal = true, usable_float = true, usable_double = true;
         for (int i = 0; i < 3; ++i) {
             const double d = double(ray.direction[i]);
             // 1/±0 is ±inf, the sign of the zero: IEEE division, no trap in the default
@@ -105,8 +121,17 @@ private:
             k.finv[i] = T(k.rinv[i]);
             k.negative[i] = std::signbit(ray.direction[i]);
             const double a = std::abs(k.rinv[i]);
-            normal &= bool(int(a >= std::numeric_limits<double>::min()) & int(a <= std::numeric_limits<double>::max()));
+            const float af = std::abs(float(k.rinv[i]));
+            const bool normal_i =
+                bool(int(a >= std::numeric_limits<double>::min()) & int(a <= std::numeric_limits<double>::max()));
+            const bool parallel = d == 0;
+            normal &= normal_i;
+            usable_double &= parallel | normal_i;
+            usable_float &= parallel | bool(int(af >= std::numeric_limits<float>::min()) &
+                                            int(af <= std::numeric_limits<float>::max()));
         }
+        k.usable_double = usable_double;
+        k.usable_float = usable_float;
         k.normal_apart_from_range = normal & k.valid_apart_from_range;
         k.normal = normal & k.valid;
         return k;
