@@ -622,6 +622,7 @@ TYPED_TEST(BvhTest, WithRangeEqualsPreparedOnTheRange) {
             EXPECT_EQ(a.reciprocals_normal(), b.reciprocals_normal());
             EXPECT_EQ(a.template reciprocals_usable_in<float>(), b.template reciprocals_usable_in<float>());
             EXPECT_EQ(a.template reciprocals_usable_in<double>(), b.template reciprocals_usable_in<double>());
+            EXPECT_EQ(a.parallel_axes(), b.parallel_axes());
             EXPECT_TRUE(same_bits(a.ray().t_min, lo) && same_bits(a.ray().t_max, hi));
             for (int i = 0; i < 3; ++i) {
                 EXPECT_TRUE(same_bits(a.rinv(i), b.rinv(i)));

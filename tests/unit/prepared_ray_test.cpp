@@ -13,7 +13,7 @@
 //   - the RuntimeMode forms, and in certified and conservative mode the batch forms over
 //     prepared rays, equal the tag's scalar prepared answers bit for bit.
 // By hand: what the prepared ray decides (validity, fl(1/d_i) with the sign of a zero,
-// the signs, reciprocals_normal, reciprocals_usable_in float and double); -0 and +0
+// the signs, reciprocals_normal, reciprocals_usable_in, parallel_axes); -0 and +0
 // directions with the origin on a slab plane; denormal and huge directions; invalid
 // rays; the prepared ray keeps its own copy of the ray (it outlives it); and a prepared
 // ray made under a directed rounding mode or flush-to-zero / denormals-are-zero decides
@@ -195,6 +195,7 @@ template <class T> void check_hand_cases() {
         const PreparedRay<T> p(r);
         EXPECT_EQ(p.valid(), detail::valid(r));
         bool normal = p.valid(), usable_double = true, usable_float = true;
+        unsigned parallel_axes = 0;
         for (int i = 0; i < 3; ++i) {
             const double inv = 1.0 / double(r.direction[i]);
             EXPECT_TRUE(same_bits(p.rinv(i), inv) || (std::isnan(inv) && std::isnan(p.rinv(i)))) << i;
@@ -202,12 +203,14 @@ template <class T> void check_hand_cases() {
             EXPECT_EQ(p.negative(i), std::signbit(r.direction[i])) << i;
             normal = normal && std::isnormal(inv);
             const bool parallel = r.direction[i] == 0;
+            parallel_axes |= unsigned(parallel) << i;
             usable_double = usable_double && (parallel || std::isnormal(inv));
             usable_float = usable_float && (parallel || std::isnormal(float(inv)));
         }
         EXPECT_EQ(p.reciprocals_normal(), normal);
         EXPECT_EQ(p.template reciprocals_usable_in<double>(), usable_double);
         EXPECT_EQ(p.template reciprocals_usable_in<float>(), usable_float);
+        EXPECT_EQ(p.parallel_axes(), parallel_axes);
         if (!p.valid()) {
             for (const Hit<T>& h : {intersect(p, unit_box<T>(), certified), intersect(p, obb, fast),
                                     intersect(p, plane, conservative), intersect(p, sphere, certified)}) {

@@ -16,8 +16,9 @@
 // rounding issue for the bound, which counts both), used by the fast lanes and by the
 // certified packets' float filter, whose bound counts both roundings. Which arithmetic
 // a packet's or a BVH node's filter may take the ray into is decided here too
-// (reciprocals_usable_in<E>): every axis parallel, or with its reciprocal in E normal and
-// finite; the packets used to decide it again for every packet.
+// (reciprocals_usable_in<E>): each axis either parallel or with its reciprocal in E
+// normal and finite; the packets used to decide it again for every packet. So are the parallel
+// axes (parallel_axes), which the fast lanes would otherwise test per packet.
 //
 // Every query that takes a Ray also takes a PreparedRay and answers the same: in
 // certified mode bit for bit (verdict, t_enter, t_exit, face); in conservative mode
@@ -70,7 +71,10 @@ public:
     // The ray is valid and every fl(1/d_i) is normal and finite: the relative bound u
     // above holds on all three axes.
     [[nodiscard]] bool reciprocals_normal() const noexcept { return k_.normal; }
-    // Every axis parallel (d_i = ±0) or with its reciprocal in E normal and finite: in
+    // Bit i set when d_i = ±0 (the ray parallel to slab i): the box packets' fast lanes
+    // test no axis for it when none is.
+    [[nodiscard]] unsigned parallel_axes() const noexcept { return k_.parallel; }
+    // Each axis either parallel (d_i = ±0) or with its reciprocal in E normal and finite: in
     // double rinv_i, in float fl_float(rinv_i) (= inv(i) for a float ray). The box
     // packets' and the BVH's filters in E take the ray into their lanes only then
     // (ray_aabb_packet.hpp: the relative bound of the reciprocal holds on every axis that
@@ -105,6 +109,7 @@ private:
         bool valid_apart_from_range;   // the origin finite, the direction finite and nonzero
         bool normal_apart_from_range;  // every fl(1/d_i) normal and finite
         bool usable_double, usable_float;  // reciprocals_usable_in<double>, <float>
+        unsigned char parallel;            // parallel_axes()
     };
     static Decided decide(const Ray<T>& ray) noexcept {
         Decided k;
@@ -113,6 +118,7 @@ private:
         k.valid_apart_from_range = bool(int(detail::finite_probe(ray.origin.data()) == 0) &
                                         int(detail::finite_probe(dir) == 0) & int(detail::nonzero3(dir)));
         bool normal = true, usable_float = true, usable_double = true;
+        unsigned parallel_axes = 0;
         for (int i = 0; i < 3; ++i) {
             const double d = double(ray.direction[i]);
             // 1/±0 is ±inf, the sign of the zero: IEEE division, no trap in the default
@@ -125,6 +131,7 @@ private:
             const bool normal_i =
                 bool(int(a >= std::numeric_limits<double>::min()) & int(a <= std::numeric_limits<double>::max()));
             const bool parallel = d == 0;
+            parallel_axes |= unsigned(parallel) << i;
             normal &= normal_i;
             usable_double &= parallel | normal_i;
             usable_float &= parallel | bool(int(af >= std::numeric_limits<float>::min()) &
@@ -132,6 +139,7 @@ private:
         }
         k.usable_double = usable_double;
         k.usable_float = usable_float;
+        k.parallel = static_cast<unsigned char>(parallel_axes);
         k.normal_apart_from_range = normal & k.valid_apart_from_range;
         k.normal = normal & k.valid;
         return k;

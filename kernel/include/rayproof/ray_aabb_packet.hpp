@@ -207,8 +207,8 @@ template <class T, int W, class B> struct FastLanes {
     simd::Mask<T, W, B> ok;
     simd::Vec<T, W, B> enter, exit, face;
 };
-template <class B, bool Face, class T, int W>
-RAYPROOF_ALWAYS_INLINE FastLanes<T, W, B> fast_lanes(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
+template <class B, bool Face, bool MayBeParallel, class T, int W>
+RAYPROOF_ALWAYS_INLINE FastLanes<T, W, B> fast_lanes_of(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
     using V = simd::Vec<T, W, B>;
     using M = simd::Mask<T, W, B>;
     const Ray<T>& r = pr.ray();
@@ -218,10 +218,11 @@ RAYPROOF_ALWAYS_INLINE FastLanes<T, W, B> fast_lanes(const PreparedRay<T>& pr, c
     RAYPROOF_UNROLL3
     for (int i = 0; i < 3; ++i) {
         const V lo = V::load(b.lo[i]), hi = V::load(b.hi[i]), o = V::splat(r.origin[i]);
-        if (r.direction[i] == 0) {  // parallel: exactly, never 0·inf
-            ok = ok & box_ok<T, W, B, T>(lo, hi) & (lo <= o) & (o <= hi);
-            continue;
-        }
+        if constexpr (MayBeParallel)
+            if (r.direction[i] == 0) {  // parallel: exactly, never 0·inf
+                ok = ok & box_ok<T, W, B, T>(lo, hi) & (lo <= o) & (o <= hi);
+                continue;
+            }
         ok = ok & (lo <= hi);
         const bool neg = pr.negative(i);
         const V inv = V::splat(pr.inv(i));
@@ -242,6 +243,18 @@ RAYPROOF_ALWAYS_INLINE FastLanes<T, W, B> fast_lanes(const PreparedRay<T>& pr, c
     // promises nothing there) drops the lane too.
     ok = ok & ((sum - sum) == V::splat(T(0))) & (l.enter <= l.exit);
     return l;
+}
+
+// A ray with no axis parallel (the common case; decided once by the prepared ray,
+// parallel_axes) takes the lanes without a test per axis: measured in one program,
+// float W = 8, AVX2, shuffled pairs, 0.58 ns a box test against 0.61-0.63 with the three
+// tests. The certified filter keeps its tests: the same split there measured slower
+// (1.03 against 0.94), its two copies inlined into every caller.
+template <class B, bool Face, class T, int W>
+RAYPROOF_ALWAYS_INLINE FastLanes<T, W, B> fast_lanes(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
+    if (pr.parallel_axes() == 0) [[likely]]
+        return fast_lanes_of<B, Face, false>(pr, b);
+    return fast_lanes_of<B, Face, true>(pr, b);
 }
 
 // Full: the PacketHit; else the mask alone.
