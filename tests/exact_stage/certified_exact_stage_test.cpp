@@ -488,6 +488,38 @@ TYPED_TEST(CertifiedExactStage, SphereStraightLinePathAgreesWithGeneralPath) {
         [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_certified_common(r, s); },
         [](const Ray<T>& r, const Sphere<T>& s) { return detail::sphere_certified_general(r, s); });
 }
+// A ray that touches the sphere at one point t* only (an exact tangent, or a range that
+// meets the ball at one point): both ends answered with the greatest float at or below
+// t*, by the certified query and by its exact stage alone. Faithful rounding would allow
+// the float above as well; the general path's search clamps t_enter to t_exit, and its
+// tangent shortcut (sphere_tangent_floats, read off the exact vertex) must answer the
+// same float. On every valid case of the tangent generators.
+TYPED_TEST(CertifiedExactStage, SphereTouchingPointAnswersTheFloatBelowIt) {
+    using T = TypeParam;
+    const std::uint64_t base = seed();
+    int touching = 0;
+    for (const char* name : {"grazing", "near_grazing", "on_boundary"}) {
+        const auto* g = gen::find_generator<T, Sphere<T>>(name);
+        ASSERT_NE(g, nullptr) << name;
+        gen::Rng rng(base);
+        for (int k = 0; k < 4 * cases(); ++k) {
+            const auto c = g->make(rng);
+            if (!detail::valid(c.ray) || !detail::valid(c.shape)) continue;
+            const auto ex = oracle::exact(c.ray, c.shape);
+            if (ex.verdict != Verdict::hit || compare(ex.t_enter, ex.t_exit) != 0) continue;
+            ++touching;
+            const T below = ex.exit_bracket().lo;
+            const Hit<T> filtered = intersect(c.ray, c.shape, certified), exact = detail::exact_stage(c.ray, c.shape);
+            for (const Hit<T>& h : {filtered, exact}) {
+                ASSERT_TRUE(h.verdict == Verdict::hit && same_bits(h.t_enter, below) && same_bits(h.t_exit, below))
+                    << "generator " << name << " case " << k << " (RAYPROOF_SEED=" << base << "): " << c.ray << " vs "
+                    << c.shape << "\n  certified: " << filtered << "\n  exact stage: " << exact << "\n  oracle: " << ex
+                    << "\n  the float at or below t*: " << below;
+            }
+        }
+    }
+    EXPECT_GT(touching, cases());  // the grazing generator touches in every case
+}
 // The float straight-line path (sphere_certified_float: plain double with gamma bounds, no
 // double-word arithmetic), in front of sphere_certified_common for float input: wherever
 // it answers, the general path's answer bit for bit, on every generator (tangents, a

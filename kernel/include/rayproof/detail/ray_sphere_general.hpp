@@ -3,8 +3,9 @@
 // (and, for double, on its double-word residual), and t_enter and t_exit found by a
 // search over the ordered floats (detail/rounding.hpp). It answers every valid input.
 // Every slope sign the intervals leave open comes from one exact vertex, and on a
-// tangent line every such sign of q too; the search starts from exact root estimates
-// where the intervals' roots are wide (SphereQuadratic).
+// tangent line every such sign of q too, and t_enter and t_exit then need no search:
+// both are read off the vertex (sphere_tangent_floats). The search starts from exact
+// root estimates where the intervals' roots are wide (SphereQuadratic).
 #pragma once
 
 #include <rayproof/detail/certified.hpp>
@@ -19,8 +20,25 @@
 #include <limits>
 #include <optional>
 #include <type_traits>
+#include <utility>
 
 namespace rayproof::detail {
+
+// The floats next to t* given a double f and side = sign(f - t*), where t* lies at f
+// (side 0) or strictly between f and its double neighbour on the side's side: the
+// greatest float of T at or below t* and the least at or above it, zeros as +0 (the
+// search's keys do not tell -0 from +0 and give +0). A float of T that is not f lies
+// at or beyond f's double neighbours, so beyond t* too.
+template <class T> std::pair<T, T> sphere_tangent_floats(double f, int side) {
+    const auto plus0 = [](T x) { return x == 0 ? T(0) : x; };
+    const T g = narrow<T>(f);
+    const double gd = double(g);
+    // The position of t* against g: as f's against g where they differ, else side.
+    const int s = gd != f ? (gd > f ? 1 : -1) : side;
+    if (s == 0) return {plus0(g), plus0(g)};
+    if (s > 0) return {plus0(step_down(g)), plus0(g)};  // t* < g
+    return {plus0(g), plus0(step_up(g))};                // t* > g
+}
 
 // The certified decisions on a quadratic Q (SphereQuadratic, or a test's wrapper that
 // turns the interval filter off to exercise the exact stage alone).
@@ -74,6 +92,7 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
         if (sd == 2) {
             RAYPROOF_COUNT_EXACT(went_exact);
             sd = q.sign_discriminant();
+            tangent = sd == 0;
         }
         hit = sd >= 0;
     }
@@ -82,6 +101,22 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
         return h;
     }
     h.verdict = Verdict::hit;
+    // A tangent line (q(t) = a (t - t*)², known once a sign needed exact arithmetic):
+    // q(g) <= 0 only at g = t*, and the slope's sign is that of g - t*. So the entry
+    // search's predicate holds from the least float at or above t*, the exit search's up
+    // to the greatest at or below it: both read off the vertex (sphere_tangent_floats).
+    // An end of the range with q <= 0 is t* itself, and answers as below.
+    if (tangent == 1) {
+        if (!vertex) vertex.emplace(q.vertex());
+        const auto [below, above] = sphere_tangent_floats<T>(vertex->f, vertex->side);
+        if (std::isfinite(below) && std::isfinite(above)) {
+            h.t_enter = q_min <= 0 ? r.t_min : above;
+            h.t_exit = q_max <= 0 ? r.t_max : below;
+            if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;
+            RAYPROOF_COUNT_FLUSH(went_exact);
+            return h;
+        }
+    }
     const auto [r0, r1] = q.roots(q.discriminant());
     // Starts for the search: the intervals' midpoints, or the exact estimates where an
     // interval is wide (near a tangent) and they exist.
