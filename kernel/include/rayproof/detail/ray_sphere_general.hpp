@@ -119,18 +119,26 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
     }
     const auto [r0, r1] = q.roots(q.discriminant());
     // Starts for the search: the intervals' midpoints, or the exact estimates where an
-    // interval is wide (near a tangent) and they exist.
+    // interval is wide or unbounded (near a tangent, or far outside the double range),
+    // each where it is finite (an entry root beyond -DBL_MAX leaves the exit's estimate
+    // good).
     double start0 = r0.mid(), start1 = r1.mid();
-    const auto wide = [](const Interval<double>& x) {
-        return !(x.hi - x.lo <= 0x1p-40 * (std::abs(x.lo) + std::abs(x.hi)));
+    const auto wide = [](const Interval<double>& x) {  // an unbounded interval is wide
+        return !(x.hi - x.lo <= 0x1p-40 * (std::abs(x.lo) + std::abs(x.hi))) || !std::isfinite(x.hi - x.lo);
     };
     if (wide(r0) || wide(r1)) {
-        const auto [e0, e1] = q.root_estimates();
-        if (std::isfinite(e0) && std::isfinite(e1)) {
-            start0 = e0;
-            start1 = e1;
-        }
+        const auto [e0, e1] = q.root_estimates();  // each where it is finite
+        if (std::isfinite(e0)) start0 = e0;
+        if (std::isfinite(e1)) start1 = e1;
     }
+    // The key a search (lo, hi] starts from: the guess's, moved inside the range where it
+    // lies at or beyond an end (a root estimate just outside the range, an end root
+    // estimated as -0 for t_min = 0: first_true gallops only from a key strictly inside,
+    // and bisects the whole range else); `none` without a finite guess.
+    const auto start_key = [](T guess, std::int64_t lo, std::int64_t hi, std::int64_t none) {
+        if (!std::isfinite(guess) || std::uint64_t(hi) - std::uint64_t(lo) < 2) return none;
+        return std::clamp(float_key(guess), lo + 1, hi - 1);
+    };
     // Search range: the finite part of [t_min, t_max].
     const std::int64_t kmin = float_key(std::max(r.t_min, -big)), kmax = float_key(std::min(r.t_max, big));
     if (q_min <= 0) {
@@ -146,7 +154,7 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
         // enter(t_max) holds for a finite t_max (t0 <= t_max); for t_max = inf, t0 may
         // lie beyond the largest float, whose enclosing finite neighbour is answered.
         const bool reached = !std::isinf(r.t_max) || enter(kmax);
-        h.t_enter = reached ? key_float<T>(first_true(lo, kmax, std::isfinite(guess) ? float_key(guess) : lo, enter))
+        h.t_enter = reached ? key_float<T>(first_true(lo, kmax, start_key(guess, lo, kmax, lo), enter))
                             : big;
     }
     if (q_max <= 0) {
@@ -160,7 +168,7 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
         const T guess = narrow<T>(start1);
         const std::int64_t hi = float_key(r.t_max) == kmax && !std::isinf(r.t_max) ? kmax : kmax + 1;
         const bool reached = !std::isinf(r.t_min) || !past(kmin);
-        h.t_exit = reached ? key_float<T>(first_true(kmin, hi, std::isfinite(guess) ? float_key(guess) : hi, past) - 1)
+        h.t_exit = reached ? key_float<T>(first_true(kmin, hi, start_key(guess, kmin, hi, hi), past) - 1)
                            : -big;
     }
     if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;

@@ -18,6 +18,26 @@
 
 namespace rayproof::detail {
 
+// The careful quadratic's roots of a t² + 2 b t + c' (D = b² - a c' >= 0), each value
+// given as mant·2^exp: q = -(b + sign(b)·sqrt(D)), roots q/a and c'/q, ascending. Each
+// step keeps the exponents apart from the mantissas, so a, b, c' or D beyond the double
+// range (a = |d|² of a direction with a subnormal component reaches 2^-2148) still give
+// the roots wherever they lie in it; a root outside gives ±inf or 0.
+inline std::pair<double, double> sphere_root_estimates(Approx a, Approx b, Approx c, Approx D) {
+    if (b.mant == 0 && D.mant == 0) return {0.0, 0.0};  // the tangent at t = 0
+    // sqrt(D) = sqrt(D.mant·2^(D.exp mod 2))·2^(D.exp div 2)
+    const long half = D.exp >= 0 ? D.exp / 2 : -((1 - D.exp) / 2);
+    const double sm = std::sqrt(std::ldexp(D.mant, int(D.exp - 2 * half)));
+    // q = Q·2^k, k the larger exponent of b and sqrt(D) (both mantissas below 2).
+    const long k = b.mant == 0 ? half : D.mant == 0 ? b.exp : std::max(b.exp, half);
+    const auto at = [k](double m, long e) { return std::ldexp(m, int(std::clamp(e - k, -3000L, 3000L))); };
+    const double bq = at(b.mant, b.exp);
+    const double Q = -(bq + std::copysign(at(sm, half), bq));
+    const auto scaled = [](double m, long e) { return std::ldexp(m, int(std::clamp(e, -3000L, 3000L))); };
+    const double t0 = scaled(Q / a.mant, k - a.exp), t1 = scaled(c.mant / Q, c.exp - k);
+    return {std::min(t0, t1), std::max(t0, t1)};
+}
+
 // The quadratic q(t) = |Δ + t d|² - r² of a ray and a sphere, with interval enclosures
 // of its pieces and exact signs on demand.
 template <class T> class SphereQuadratic {
@@ -149,7 +169,8 @@ public:
     // input where the given one is not safe for expansions. A start for the search
     // where the intervals' roots are wide (near a tangent D is tiny and its interval
     // holds 0); the search proves every float it answers, so an estimate only saves
-    // steps. NaN where D < 0 or a value leaves the double range.
+    // steps. NaN where D < 0; a root beyond the double range is ±inf, one below it ±0
+    // (a, b, c' and D themselves may lie outside it: sphere_root_estimates).
     std::pair<double, double> root_estimates() const {
         constexpr double nan = std::numeric_limits<double>::quiet_NaN();
         const std::optional<Values>& scaled = safe() ? std::optional<Values>() : rescaled();
@@ -161,12 +182,7 @@ public:
                 const E D = b * b - a * c;
                 if (any_overflowed(a, b, c, D)) return std::nullopt;
                 if (D.sign() < 0) return std::pair{nan, nan};
-                const auto value = [](const Approx& x) { return std::ldexp(x.mant, int(std::clamp(x.exp, -3000L, 3000L))); };
-                const double fa = value(a.approx()), fb = value(b.approx()), fc = value(c.approx()), fd = value(D.approx());
-                const double q = -(fb + std::copysign(std::sqrt(fd), fb));
-                if (q == 0) return std::pair{0.0, 0.0};  // b = 0 and D = 0: the tangent at t = 0
-                const double t0 = q / fa, t1 = fc / q;
-                return std::pair{std::min(t0, t1), std::max(t0, t1)};
+                return sphere_root_estimates(a.approx(), b.approx(), c.approx(), D.approx());
             });
         const int back = scaled ? -scaled->shift : 0;
         return {std::ldexp(r.first, back), std::ldexp(r.second, back)};
