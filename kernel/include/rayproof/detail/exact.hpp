@@ -405,13 +405,17 @@ public:
     }
     friend BasicBigDyadic operator+(const BasicBigDyadic& a, const BasicBigDyadic& b) { return add(a, b, false); }
     friend BasicBigDyadic operator-(const BasicBigDyadic& a, const BasicBigDyadic& b) { return add(a, b, true); }
-    // Schoolbook product of the limbs in use, 128-bit partial products.
+    // Schoolbook product of the limbs in use, 128-bit partial products. A zero limb of a
+    // adds nothing and is skipped: a sum of numbers of far apart magnitudes (a subnormal
+    // direction component beside a unit one) has few nonzero limbs among many. Row i
+    // writes limb i + nb, which no earlier row reached, so a skipped row leaves it 0.
     friend BasicBigDyadic operator*(const BasicBigDyadic& a, const BasicBigDyadic& b) {
         BasicBigDyadic r;
         if (a.of_ || b.of_ || a.n_ + b.n_ - 1 > kCapacity) return flagged();  // needs >= na+nb-1 limbs
         if (a.n_ == 0 || b.n_ == 0) return r;
         std::fill_n(r.limb_, a.n_ + b.n_, std::uint64_t(0));
         for (int i = 0; i < a.n_; ++i) {
+            if (a.limb_[i] == 0) continue;
             std::uint64_t carry = 0;
             for (int j = 0; j < b.n_; ++j) {
                 const LimbPair t = mul_add_add(a.limb_[i], b.limb_[j], r.limb_[i + j], carry);
