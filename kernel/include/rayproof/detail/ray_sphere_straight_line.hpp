@@ -369,8 +369,11 @@ template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> sphere_certified
     if (!(int(lc.E < inf<double>) & int(a > 0) & int(s.radius >= 0) & int(valid_range(r)))) return std::nullopt;
     Hit<T> h;
     if (lc.D > lc.E) return h;  // the line's distance from the centre exceeds r
-    // b² - a c' = a (r² - l²) = r² a - |Δ × d|² = -D, up to rounding: the estimates.
-    const double qq = -(b + std::copysign(std::sqrt(-lc.D), b));
+    // b² - a c' = a (r² - l²) = r² a - |Δ × d|² = -D, up to rounding: the estimates. -D
+    // may be negative here (0 < D <= E, near a tangent): clamped at 0, as the square root
+    // of a negative number goes through the library's error path to set errno, and an
+    // estimate needs no proof (at -D = 0 both are the vertex, which the signs then judge).
+    const double qq = -(b + std::copysign(std::sqrt(-lc.D > 0 ? -lc.D : 0.0), b));
     double t0 = qq / a, t1 = cc / qq;
     if (t1 < t0) std::swap(t0, t1);
     if (!(std::isfinite(t0) && std::isfinite(t1))) return std::nullopt;
