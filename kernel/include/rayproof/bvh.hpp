@@ -326,9 +326,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE BvhFilter bvh_filter_for(const Prepare
     return packet::all_axes_usable<double>(pr) ? BvhFilter::in_double : BvhFilter::scalar;
 }
 template <class T> RAYPROOF_ALWAYS_INLINE BvhFilter bvh_fast_filter_for(const PreparedRay<T>& pr) noexcept {
-    const bool lean = packet::axis_kind<T>(pr, 0) == 0 && packet::axis_kind<T>(pr, 1) == 0 &&
-                      packet::axis_kind<T>(pr, 2) == 0;
-    return lean ? BvhFilter::lean : BvhFilter::scalar;
+    // No axis parallel and every reciprocal in T normal and finite.
+    return pr.parallel_axes() == 0 && pr.template reciprocals_usable_in<T>() ? BvhFilter::lean : BvhFilter::scalar;
 }
 
 // The fast node test of a valid ray whose reciprocals in T are all normal and finite

@@ -17,8 +17,8 @@
 // certified packets' float filter, whose bound counts both roundings. Which arithmetic
 // a packet's or a BVH node's filter may take the ray into is decided here too
 // (reciprocals_usable_in<E>): each axis either parallel or with its reciprocal in E
-// normal and finite; the packets used to decide it again for every packet. So are the parallel
-// axes (parallel_axes), which the fast lanes would otherwise test per packet.
+// normal and finite; the packets used to decide it again for every packet. So are the
+// parallel axes (parallel_axes), which the fast lanes would otherwise test per packet.
 //
 // Every query that takes a Ray also takes a PreparedRay and answers the same: in
 // certified mode bit for bit (verdict, t_enter, t_exit, face); in conservative mode
