@@ -11,12 +11,15 @@
 #include <gmpxx.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <iterator>
 #include <limits>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -841,6 +844,89 @@ TEST(ExactDet3, FilterEdgeCases) {
     EXPECT_EQ(det3_sign(m), 0);
     m << 1, 2, 3, 4, 5, 6, 7, 8, std::numeric_limits<double>::infinity();
     EXPECT_EQ(det3_sign(m), 0);  // non-finite: 0 (meaningless), no crash
+}
+
+// ================================================================= slab values without expansions
+
+// exact_sum_sign against GMP on eight doubles of the safe range that cancel: random
+// terms, each followed by its negation or a neighbour of it, in shuffled order.
+TEST(ExactSlabValues, SumSignAgainstMpq) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    for (int it = 0; it < 20000; ++it) {
+        double x[8];
+        double prev = 1;
+        for (int k = 0; k < 8; k += 2) {
+            prev = safe_interesting(rng, prev);
+            x[k] = prev;
+            const double back = rng() % 2 ? -prev : std::nextafter(-prev, rng() % 2 ? 1e308 : -1e308);
+            x[k + 1] = rng() % 3 ? back : safe_interesting(rng, prev);
+        }
+        std::shuffle(std::begin(x), std::end(x), rng);
+        const int n = 1 + static_cast<int>(rng() % 8);
+        mpq_class sum = 0;
+        std::string terms;
+        for (int k = 0; k < n; ++k) {
+            sum += Q(x[k]);
+            terms += hex(x[k]) + " ";
+        }
+        SCOPED_TRACE(terms);
+        ASSERT_EQ(exact_sum_sign(x, n), sgn(sum));
+    }
+}
+
+// compare_slab_values and compare_slab_value against GMP on slab values of the safe
+// range, near ties above all: the second value the first scaled by a power of two in
+// both its difference and its denominator (an exact tie), or that tie moved by an ulp
+// in one of its three numbers; the constants the nearest double to a slab value and its
+// neighbours, and constants whose product with d leaves the exact range (no answer).
+TEST(ExactSlabValues, ComparisonsAgainstMpq) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    const auto nonzero = [&](double prev) {
+        for (;;) {
+            const double d = safe_interesting(rng, prev);
+            if (d != 0) return d;
+            prev = 1;
+        }
+    };
+    int ties = 0, declined = 0;
+    for (int it = 0; it < 20000; ++it) {
+        const double p1 = safe_interesting(rng, 1), o1 = safe_interesting(rng, p1), d1 = nonzero(o1);
+        double p2, o2, d2;
+        if (rng() % 2) {
+            const int k = static_cast<int>(rng() % 9) - 4;
+            p2 = std::ldexp(p1, k);
+            o2 = std::ldexp(o1, k);
+            d2 = std::ldexp(d1, k);
+            double* moved[] = {&p2, &o2, &d2};
+            if (rng() % 2) {
+                double& m = *moved[rng() % 3];
+                m = std::nextafter(m, rng() % 2 ? 1e308 : -1e308);
+            }
+            if (!(expansion_safe(p2) && expansion_safe(o2) && expansion_safe(d2)) || d2 == 0) continue;
+        } else {
+            p2 = safe_interesting(rng, p1);
+            o2 = safe_interesting(rng, p2);
+            d2 = nonzero(o2);
+        }
+        SCOPED_TRACE(hex(p1) + " " + hex(o1) + " " + hex(d1) + " vs " + hex(p2) + " " + hex(o2) + " " + hex(d2));
+        const mpq_class v1 = (Q(p1) - Q(o1)) / Q(d1), v2 = (Q(p2) - Q(o2)) / Q(d2);
+        ties += v1 == v2;
+        ASSERT_EQ(compare_slab_values(p1, o1, d1, p2, o2, d2), sgn(v1 - v2));
+        const double near = v1.get_d();
+        for (const double t : {near, std::nextafter(near, 1e308), std::nextafter(near, -1e308), 0.0, 0x1p-1000, -0x1p1000,
+                               std::numeric_limits<double>::denorm_min()}) {
+            const std::optional<int> s = compare_slab_value(p1, o1, d1, t);
+            if (!s) {
+                ++declined;
+                continue;
+            }
+            ASSERT_EQ(*s, sgn(v1 - Q(t))) << "t = " << hex(t);
+        }
+    }
+    EXPECT_GT(ties, 1000) << "exact ties should be exercised";
+    EXPECT_GT(declined, 1000) << "constants out of the exact range should be declined";
 }
 
 // ================================================================= with_exact

@@ -75,6 +75,8 @@
 #include <rayproof/detail/validate.hpp>
 #include <rayproof/prepared_ray.hpp>
 
+#include <array>
+#include <optional>
 #include <type_traits>
 
 namespace rayproof::detail {
@@ -200,6 +202,24 @@ template <class T> std::optional<T> faithful_slab_value(T p, T o, T d) {
     return faithful_to<T>(f.t);
 }
 
+// exact_compare(a, b) of slab values (p - o)/d given as {p, o, d} by value(i, side),
+// without an expansion type (compare_slab_values, exact.hpp), for inputs safe for
+// expansions; none where a constant's product may be inexact.
+template <class Value> std::optional<int> slab_quick_compare(const SlabRef& a, const SlabRef& b, Value&& value) {
+    if (a.axis >= 0 && b.axis >= 0) {
+        const auto x = value(a.axis, a.side), y = value(b.axis, b.side);
+        return compare_slab_values(x[0], x[1], x[2], y[0], y[1], y[2]);
+    }
+    if (a.axis >= 0) {
+        const auto x = value(a.axis, a.side);
+        return compare_slab_value(x[0], x[1], x[2], b.c);
+    }
+    const auto y = value(b.axis, b.side);
+    const std::optional<int> s = compare_slab_value(y[0], y[1], y[2], a.c);
+    if (!s) return std::nullopt;
+    return -*s;
+}
+
 // The slab values of a double box and ray for the exact stage at a safer scale: every
 // position (o_i, lo_i, hi_i) multiplied by 2^sp and every direction d_i by 2^sd, so that
 // each quotient (p - o_i)/d_i is 2^(sp - sd) = 2^shift() times the frame's. Only axes
@@ -233,6 +253,9 @@ public:
     template <class E> E num(int i, int side) const { return E(p_[i][side]) - E(o_[i]); }
     template <class E> E den(int i) const { return E(d_[i]); }
     bool safe() const { return true; }
+    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const {
+        return slab_quick_compare(a, b, [&](int i, int side) { return std::array<double, 3>{p_[i][side], o_[i], d_[i]}; });
+    }
 
 private:
     // A parallel axis's values are scaled too but never used (they may leave the range).
@@ -296,12 +319,21 @@ public:
     }
     template <class E> E num(int i, int side) const { return E(double(plane(i, side))) - E(double(o_[i])); }
     template <class E> E den(int i) const { return E(double(d_[i])); }
+    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const {
+        return slab_quick_compare(a, b, [&](int i, int side) {
+            return std::array<double, 3>{double(plane(i, side)), double(o_[i]), double(d_[i])};
+        });
+    }
+    // Decided on first use, once per frame (each exact comparison asks).
     bool safe() const {
-        for (int i = 0; i < 3; ++i)
-            if (!expansion_safe(o_[i]) || !expansion_safe(d_[i]) || !expansion_safe(b_->lo[i]) ||
-                !expansion_safe(b_->hi[i]))
-                return false;
-        return true;
+        if (safe_ < 0) {
+            bool s = true;
+            for (int i = 0; i < 3; ++i)
+                s = s && expansion_safe(o_[i]) && expansion_safe(d_[i]) && expansion_safe(b_->lo[i]) &&
+                    expansion_safe(b_->hi[i]);
+            safe_ = s;
+        }
+        return safe_ != 0;
     }
     // The same slab values at a scale the Expansion type is safe at, where one exists
     // (exact_compare's comparisons use it when safe() is false). Made on first use, once
@@ -326,6 +358,7 @@ private:
     const Aabb<T>* b_;
     double t_[3][2], e_[3][2];
     bool ok_[3][2];
+    mutable int safe_ = -1;  // safe(), -1 until asked
     mutable bool scaled_made_ = false;
     mutable std::optional<AabbScaledQuotients> scaled_;
 };

@@ -768,6 +768,47 @@ template <class E, class T> int compare_quotient(const E& num, const E& den, T t
     return 0;  // an overflowed input: meaningless
 }
 
+// The exact sign of x[0] + ... + x[n-1] (finite doubles, n <= 8, no partial sum near
+// overflow): each term grown into a nonoverlapping expansion with zero elimination
+// (GROW-EXPANSION, Shewchuk 1997, Theorem 10), whose largest component has the sign
+// of the whole.
+inline int exact_sum_sign(const double* x, int n) {
+    double e[8];
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+        double q = x[i];
+        int k = 0;
+        for (int j = 0; j < m; ++j) {
+            const Pair s = two_sum(q, e[j]);
+            if (s.lo != 0) e[k++] = s.lo;
+            q = s.hi;
+        }
+        if (q != 0) e[k++] = q;
+        m = k;
+    }
+    return m == 0 ? 0 : (e[m - 1] > 0 ? 1 : -1);
+}
+
+// sign((p1 − o1)/d1 − (p2 − o2)/d2) for slab values with d1, d2 != 0 and every input 0
+// or in [2^-100, 2^100] (expansion_safe), without an expansion type: p − o = s + e
+// exactly (two_sum), each product by the other denominator exactly two doubles
+// (two_prod: |s·d| >= 2^-200 and |e·d| >= 2^-253 where nonzero, far above 2^-916),
+// and the sign of the eight-term sum times sign(d1 d2).
+inline int compare_slab_values(double p1, double o1, double d1, double p2, double o2, double d2) {
+    const Pair n1 = two_sum(p1, -o1), n2 = two_sum(p2, -o2);
+    const Pair a = two_prod(n1.hi, d2), b = two_prod(n1.lo, d2), c = two_prod(n2.hi, d1), d = two_prod(n2.lo, d1);
+    const double x[8] = {a.lo, b.lo, -c.lo, -d.lo, a.hi, b.hi, -c.hi, -d.hi};
+    return exact_sum_sign(x, 8) * ((d1 > 0) == (d2 > 0) ? 1 : -1);
+}
+// sign((p − o)/d − t) likewise for a finite t, or none where t·d may be inexact (its
+// error term subnormal) or overflow.
+inline std::optional<int> compare_slab_value(double p, double o, double d, double t) {
+    const Pair n = two_sum(p, -o), td = two_prod(t, d);
+    if (!(t == 0 || (std::abs(td.hi) >= exact_impl::kMinExactProduct && std::abs(td.hi) <= 0x1p1000))) return std::nullopt;
+    const double x[4] = {n.lo, -td.lo, n.hi, -td.hi};
+    return exact_sum_sign(x, 4) * (d > 0 ? 1 : -1);
+}
+
 // The determinant a(ei − fh) − b(di − fg) + c(dh − eg) in an exact type.
 template <class E, class T> E det3_exact(const Eigen::Matrix<T, 3, 3>& m) {
     const E a(m(0, 0)), b(m(0, 1)), c(m(0, 2));
