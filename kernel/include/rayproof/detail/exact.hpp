@@ -768,25 +768,53 @@ template <class E, class T> int compare_quotient(const E& num, const E& den, T t
     return 0;  // an overflowed input: meaningless
 }
 
-// The exact sign of x[0] + ... + x[n-1] (finite doubles, n <= 8, no partial sum near
-// overflow): each term grown into a nonoverlapping expansion with zero elimination
-// (GROW-EXPANSION, Shewchuk 1997, Theorem 10), whose largest component has the sign
-// of the whole.
-inline int exact_sum_sign(const double* x, int n) {
-    double e[8];
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-        double q = x[i];
+// A nonoverlapping expansion of at most N doubles, components by increasing magnitude,
+// grown one term at a time with zero elimination (GROW-EXPANSION, Shewchuk 1997,
+// Theorem 10): exact while no partial sum overflows and N components suffice; a term
+// that finds no room sets `full`, and the value is then incomplete. add_product adds
+// x·y exactly when two_prod is exact for it (the caller's ranges say so). Fixed-size
+// exact sums for expressions known in advance, without Expansion's general machinery.
+template <int N> struct GrowingSum {
+    double e[std::size_t(N)];
+    int n = 0;
+    bool full = false;
+    void add(double x) {
+        if (x == 0) return;
         int k = 0;
-        for (int j = 0; j < m; ++j) {
-            const Pair s = two_sum(q, e[j]);
+        for (int j = 0; j < n; ++j) {
+            const Pair s = two_sum(x, e[j]);
             if (s.lo != 0) e[k++] = s.lo;
-            q = s.hi;
+            x = s.hi;
         }
-        if (q != 0) e[k++] = q;
-        m = k;
+        if (x != 0) {
+            if (k < N)
+                e[k++] = x;
+            else
+                full = true;
+        }
+        n = k;
     }
-    return m == 0 ? 0 : (e[m - 1] > 0 ? 1 : -1);
+    void add_product(double x, double y) {
+        if (x == 0 || y == 0) return;
+        const Pair p = two_prod(x, y);
+        add(p.lo);
+        add(p.hi);
+    }
+    int sign() const { return n == 0 ? 0 : (e[n - 1] > 0 ? 1 : -1); }
+    double estimate() const {  // the components summed from the smallest: within a few ulps
+        double s = 0;
+        for (int j = 0; j < n; ++j) s += e[j];
+        return s;
+    }
+};
+
+// The exact sign of x[0] + ... + x[n-1] (finite doubles, n <= 8, no partial sum near
+// overflow): the terms grown into one expansion (GrowingSum), whose largest component
+// has the sign of the whole.
+inline int exact_sum_sign(const double* x, int n) {
+    GrowingSum<8> s;
+    for (int i = 0; i < n; ++i) s.add(x[i]);
+    return s.sign();
 }
 
 // sign((p1 − o1)/d1 − (p2 − o2)/d2) for slab values with d1, d2 != 0 and every input 0
