@@ -11,7 +11,12 @@
 // box's, plane's and sphere's straight-line common paths agree bit for bit with the general paths
 // wherever they answer, on every generator, and answer nearly every general-position case;
 // the same for the certified verdict filters (Aabb, plane, sphere), and that the paths
-// which check validity themselves decline every invalid variant of valid cases.
+// which check validity themselves decline every invalid variant of valid cases. The
+// exact stage's faster routes are checked against its generic one: the box's slab
+// values compared without the Expansion type, the sphere's fixed-size sums (the
+// discriminant's sign and the vertex) against the expansions, its tangent shortcut
+// against the general path, and a touching point answered at both ends by the float
+// at or below t*, as the search answers it.
 #include <rayproof/generators.hpp>
 #include <rayproof/oracle/oracle.hpp>
 #include <rayproof/rayproof.hpp>
@@ -523,6 +528,98 @@ TYPED_TEST(CertifiedExactStage, SphereTouchingPointAnswersTheFloatBelowIt) {
     }
     EXPECT_GT(touching, cases());  // the grazing generator touches in every case
 }
+// The sphere's fixed-size exact sums (SphereFixedExact: float input, and double input
+// safe for expansions, as given or rescaled into that range) against the expansion types
+// on the given input, on every valid case of every generator: the discriminant's sign
+// is the same wherever the sums decide it, and the vertex (scaled back to the given t)
+// has the exact slope signs (sign_slope) at its f, at the expansions' f and at their
+// neighbours, at the ends of the range and at 0, so that it is a faithful rounding of
+// t* with the right side; likewise SphereQuadratic's own answers, which take the sums
+// first. The sums must decide nearly every case they are offered (they decline only
+// when a fixed capacity does not suffice), and the rescaled input must be among them.
+TYPED_TEST(CertifiedExactStage, SphereFixedSumsAreTheExpansionsSigns) {
+    using T = TypeParam;
+    int offered = 0, declined = 0, tangents = 0, rescaled = 0;
+    on_valid_cases<T, Sphere<T>>("the fixed sums", [&](const auto& c, const std::string& where, bool& answered) {
+        detail::SphereValues v = detail::sphere_given_values(c.ray, c.shape);
+        detail::SphereFixedExact e(v, std::is_same_v<T, float>);
+        if (!e.usable()) {
+            const std::optional<detail::SphereValues> w = detail::sphere_rescaled_values(c.ray, c.shape);
+            if (!w) return;
+            v = *w;
+            e = detail::SphereFixedExact(v, false);
+            ASSERT_TRUE(e.usable()) << where << ": a rescaled input the sums do not take";
+            ++rescaled;
+        }
+        answered = true;
+        ++offered;
+        const detail::SphereQuadratic<T> q(c.ray, c.shape);
+        const std::string what = where + ": " + ::testing::PrintToString(c.ray) + " vs " + ::testing::PrintToString(c.shape);
+        const int exact = q.sign_discriminant(false);
+        tangents += exact == 0;
+        ASSERT_EQ(q.sign_discriminant(), exact) << what << ": the discriminant's sign";
+        const std::optional<int> sd = e.sign_discriminant();
+        if (sd) {
+            ASSERT_EQ(*sd, exact) << what << ": the fixed sums' discriminant sign";
+        }
+        const auto v_fixed = e.vertex();
+        double f_fixed = 0;
+        const bool have = v_fixed && detail::scale_exactly(v_fixed->first, -v.shift, f_fixed);
+        declined += !sd + !have;
+        using Vertex = typename detail::SphereQuadratic<T>::Vertex;
+        const Vertex expansions = q.vertex(false), taken = q.vertex();
+        std::vector<Vertex> vertices{taken};
+        if (have) vertices.push_back(Vertex{f_fixed, v_fixed->second});
+        std::vector<double> ts{0.0};
+        for (const T t : {c.ray.t_min, c.ray.t_max})
+            if (std::isfinite(t)) ts.push_back(t);
+        for (const double f : {f_fixed, taken.f, expansions.f})
+            for (const double t : {f, std::nextafter(f, -HUGE_VAL), std::nextafter(f, HUGE_VAL)})
+                if (std::isfinite(t)) ts.push_back(t);
+        for (const Vertex& vx : vertices)
+            for (const double t : ts) {
+                ASSERT_EQ(vx.slope_sign(t), q.sign_slope(t, false)) << what << ", t = " << t << ": the vertex's slope sign";
+            }
+    });
+    EXPECT_GT(tangents, 100) << "exact tangents should be among the cases";
+    EXPECT_LT(declined, offered / 20) << "the fixed sums should decide nearly every case offered";
+    if constexpr (std::is_same_v<T, double>) {
+        EXPECT_GT(rescaled, 100) << "rescaled input should be among the cases";
+    }
+}
+
+// The tangent shortcut (sphere_tangent_shortcut, ray_sphere.hpp: an exact tangent
+// answered from the fixed sums' vertex before the straight-line and general paths)
+// answers the general path's answer bit for bit wherever it answers, and the
+// discriminant's sign it hands to the general path where it decided one is the exact
+// one; it answers nearly every case of the grazing generator (exact tangents).
+TYPED_TEST(CertifiedExactStage, SphereTangentShortcutAgreesWithGeneralPath) {
+    using T = TypeParam;
+    int grazing = 0, answered_grazing = 0;
+    on_valid_cases<T, Sphere<T>>("the tangent shortcut", [&](const auto& c, const std::string& where, bool& answered) {
+        answered = true;  // every case is checked; the shortcut answers tangents only
+        const detail::SphereTangentTry<T> tangent = detail::sphere_tangent_shortcut(c.ray, c.shape);
+        if (c.generator == "grazing") {
+            ++grazing;
+            answered_grazing += tangent.answer.has_value();
+        }
+        const std::string what = where + ": " + ::testing::PrintToString(c.ray) + " vs " + ::testing::PrintToString(c.shape);
+        if (tangent.disc_sign != 2) {
+            ASSERT_EQ(tangent.disc_sign, detail::SphereQuadratic<T>(c.ray, c.shape).sign_discriminant(false))
+                << what << ": the discriminant's sign handed on";
+        }
+        if (!tangent.answer) return;
+        ASSERT_EQ(tangent.disc_sign, 0) << what;
+        const Hit<T> general = detail::sphere_certified_general(c.ray, c.shape);
+        ASSERT_TRUE(tangent.answer->verdict == general.verdict && tangent.answer->face == general.face &&
+                    same_bits(tangent.answer->t_enter, general.t_enter) &&
+                    same_bits(tangent.answer->t_exit, general.t_exit))
+            << what << "\n  tangent shortcut: " << *tangent.answer << "\n  general path: " << general;
+    });
+    EXPECT_GT(grazing, 100);
+    EXPECT_GE(answered_grazing, grazing - grazing / 20) << "the shortcut should answer the grazing tangents";
+}
+
 // The float straight-line path (sphere_certified_float: plain double with gamma bounds, no
 // double-word arithmetic), in front of sphere_certified_common for float input: wherever
 // it answers, the general path's answer bit for bit, on every generator (tangents, a

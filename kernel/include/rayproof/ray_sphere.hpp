@@ -58,17 +58,23 @@
 //            neighbours, the candidates being the double root estimates rounded to float
 //            (no Newton step), and the miss comes from the verdict filter's line
 //            certificate (no division or square root); what it cannot prove goes to the
-//            double-word path above. The verdict alone (verdict() in
-//            intersect.hpp) comes from a filter of its own, signs only, with no square
-//            root, division or root and no range restriction (sphere_verdict_common),
-//            else from the full query.
+//            double-word path above. An exact tangent (b² - a c' exactly 0) is answered
+//            before the double-word path (float) or the general path (double) from the
+//            exact vertex, both decided in fixed-size sums (sphere_tangent_shortcut),
+//            where the line's certificate leaves the tangency open; the discriminant's
+//            sign it decided otherwise goes on to the general path. The verdict alone
+//            (verdict() in intersect.hpp) comes from a filter of its own, signs only,
+//            with no square root, division or root and no range restriction
+//            (sphere_verdict_common), else from the full query.
 // Stages:    each in a header of its own under detail/: ray_sphere_quadratic.hpp (q's
 //            enclosures and exact signs), ray_sphere_residual.hpp (q in double-word
 //            arithmetic with a proven bound), ray_sphere_general.hpp (the certified general
-//            path), ray_sphere_straight_line.hpp (the certified straight-line path) and
-//            ray_sphere_verdict.hpp (the certified verdict filter). This header holds the
-//            modes; the certified one and the conservative one's fallback both call
-//            sphere_certified_answer.
+//            path), ray_sphere_straight_line.hpp (the certified straight-line path),
+//            ray_sphere_verdict.hpp (the certified verdict filter) and
+//            ray_sphere_fixed_exact.hpp (the exact discriminant's sign and vertex in
+//            fixed-size sums, which answer an exact tangent before the other paths:
+//            sphere_tangent_shortcut). This header holds the modes; the certified one
+//            and the conservative one's fallback both call sphere_certified_answer.
 #pragma once
 
 #include <rayproof/detail/certified.hpp>
@@ -77,6 +83,7 @@
 #include <rayproof/detail/interval.hpp>
 #include <rayproof/detail/prepared.hpp>
 #include <rayproof/detail/rounding.hpp>
+#include <rayproof/detail/ray_sphere_fixed_exact.hpp>
 #include <rayproof/detail/ray_sphere_general.hpp>
 #include <rayproof/detail/ray_sphere_quadratic.hpp>
 #include <rayproof/detail/ray_sphere_straight_line.hpp>
@@ -89,6 +96,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <type_traits>
 #include <utility>
 
@@ -178,6 +186,47 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, fa
     return common_or_fallback(sphere_fast_common(r, p.shape), [&] { return sphere_fast_general(r, p.shape); });
 }
 
+// An exact tangent, answered from the vertex before the paths that would find it only
+// after their own set-up (for float input before the double-word straight-line path,
+// for double before the general path): where the fixed-size sums take the input, as
+// given or rescaled (SphereFixedExact, SphereValues), and the line's certificate on that
+// input (sphere_line_certificate, valid there: a >= 2^-298) leaves l = r open, the exact
+// discriminant's sign and the vertex in fixed-size sums, and on a tangent line the
+// general path's own tangent answer (sphere_tangent_answer). Otherwise no answer, with
+// the discriminant's sign where it was decided (the general path then takes it).
+// Valid input only.
+template <class T> struct SphereTangentTry {
+    std::optional<Hit<T>> answer;
+    int disc_sign = 2;  // sign(b² - a c') where decided, else 2
+};
+template <class T> SphereTangentTry<T> sphere_tangent_shortcut(const Ray<T>& r, const Sphere<T>& s) {
+    SphereValues v = sphere_given_values(r, s);
+    SphereFixedExact e(v, std::is_same_v<T, float>);
+    if (!e.usable()) {
+        const std::optional<SphereValues> w = sphere_rescaled_values(r, s);
+        if (!w) return {};
+        v = *w;
+        e = SphereFixedExact(v, false);
+    }
+    const double delta[3] = {v.o[0] - v.c[0], v.o[1] - v.c[1], v.o[2] - v.c[2]};
+    const double a = v.d[0] * v.d[0] + v.d[1] * v.d[1] + v.d[2] * v.d[2];
+    const SphereLineCertificate lc = sphere_line_certificate(v.d, delta, v.r * v.r, a);
+    if (std::abs(lc.D) > lc.E) return {};  // l != r proven: not a tangent
+    const std::optional<int> sd = e.sign_discriminant();
+    if (!sd) return {};
+    if (*sd != 0) return {std::nullopt, *sd};
+    const std::optional<std::pair<double, int>> vx = e.vertex();
+    double f;  // t* scaled back: a faithful f stays faithful (no double lies closer)
+    if (!vx || !scale_exactly(vx->first, -v.shift, f)) return {std::nullopt, 0};
+    const std::optional<Hit<T>> h = sphere_tangent_answer(r, typename SphereQuadratic<T>::Vertex{f, vx->second});
+    if (h) {  // counted as a query that went to exact arithmetic
+        [[maybe_unused]] const bool went_exact = true;
+        RAYPROOF_COUNT_QUERY();
+        RAYPROOF_COUNT_FLUSH(went_exact);
+    }
+    return {h, 0};
+}
+
 // The certified answer, shared by the certified mode and by the conservative mode's
 // fallback: the straight-line path when it answers, else the general path. The
 // straight-line paths answer only for valid input (each vouches for it from its own
@@ -187,11 +236,18 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, fa
 // declines, out of line, goes to the double-word straight-line path and the general path.
 template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_certified_checked_general(const Ray<T>& r,
                                                                                         const Sphere<T>& s) {
-    return answer_if_valid(r, s, [&] { return sphere_certified_general(r, s); });
+    return answer_if_valid(r, s, [&] {
+        const SphereTangentTry<T> tangent = sphere_tangent_shortcut(r, s);
+        if (tangent.answer) return *tangent.answer;
+        return sphere_certified_general(r, s, tangent.disc_sign);
+    });
 }
 template <class T> [[gnu::noinline]] Hit<T> sphere_certified_declined(const Ray<T>& r, const Sphere<T>& s) {
     return answer_if_valid(r, s, [&] {
-        return common_or_general(sphere_certified_common(r, s), [&] { return sphere_certified_general(r, s); });
+        const SphereTangentTry<T> tangent = sphere_tangent_shortcut(r, s);
+        if (tangent.answer) return *tangent.answer;
+        return common_or_general(sphere_certified_common(r, s),
+                                 [&] { return sphere_certified_general(r, s, tangent.disc_sign); });
     });
 }
 template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> sphere_certified_answer(const Ray<T>& r, const Sphere<T>& s) {

@@ -4,8 +4,9 @@
 // search over the ordered floats (detail/rounding.hpp). It answers every valid input.
 // Every slope sign the intervals leave open comes from one exact vertex, and on a
 // tangent line every such sign of q too, and t_enter and t_exit then need no search:
-// both are read off the vertex (sphere_tangent_floats). The search starts from exact
-// root estimates where the intervals' roots are wide (SphereQuadratic).
+// both are read off the vertex (sphere_tangent_answer, which ray_sphere.hpp's tangent
+// shortcut shares). The search starts from exact root estimates where the intervals'
+// roots are wide (SphereQuadratic).
 #pragma once
 
 #include <rayproof/detail/certified.hpp>
@@ -38,6 +39,30 @@ template <class T> std::pair<T, T> sphere_tangent_floats(double f, int side) {
     if (s == 0) return {plus0(g), plus0(g)};
     if (s > 0) return {plus0(step_down(g)), plus0(g)};  // t* < g
     return {plus0(g), plus0(step_up(g))};                // t* > g
+}
+
+// The answer on a tangent line, b² - a c' = 0 exactly, so that q(t) = a (t - t*)², from
+// the vertex v (f and side as SphereQuadratic::Vertex): q(g) <= 0 only at g = t*, and the
+// slope's sign is that of g - t*. A hit iff t* lies in [t_min, t_max]; then the entry
+// search's predicate holds from the least float at or above t*, the exit search's up to
+// the greatest at or below it (sphere_tangent_floats), and an end of the range with q <=
+// 0 is t* itself, answered as the search answers it (t_enter = t_min, t_exit = t_max).
+// None where a neighbour of t* is not finite (beyond the largest float: the search
+// answers then).
+template <class T, class V> std::optional<Hit<T>> sphere_tangent_answer(const Ray<T>& r, const V& v) {
+    const auto at = [&](T t) { return !std::isinf(t) && v.side == 0 && double(t) == v.f; };  // q(t) <= 0
+    const bool from_min = at(r.t_min), to_max = at(r.t_max);
+    Hit<T> h;
+    const bool before = std::isinf(r.t_min) || v.slope_sign(double(r.t_min)) <= 0;  // t_min <= t*
+    const bool after = std::isinf(r.t_max) || v.slope_sign(double(r.t_max)) >= 0;   // t* <= t_max
+    if (!(before && after)) return h;
+    const auto [below, above] = sphere_tangent_floats<T>(v.f, v.side);
+    if (!(std::isfinite(below) && std::isfinite(above))) return std::nullopt;
+    h.verdict = Verdict::hit;
+    h.t_enter = from_min ? r.t_min : above;
+    h.t_exit = to_max ? r.t_max : below;
+    if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;
+    return h;
 }
 
 // The certified decisions on a quadratic Q (SphereQuadratic, or a test's wrapper that
@@ -101,20 +126,12 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
         return h;
     }
     h.verdict = Verdict::hit;
-    // A tangent line (q(t) = a (t - t*)², known once a sign needed exact arithmetic):
-    // q(g) <= 0 only at g = t*, and the slope's sign is that of g - t*. So the entry
-    // search's predicate holds from the least float at or above t*, the exit search's up
-    // to the greatest at or below it: both read off the vertex (sphere_tangent_floats).
-    // An end of the range with q <= 0 is t* itself, and answers as below.
+    // A tangent line (known once a sign needed exact arithmetic): from the vertex.
     if (tangent == 1) {
         if (!vertex) vertex.emplace(q.vertex());
-        const auto [below, above] = sphere_tangent_floats<T>(vertex->f, vertex->side);
-        if (std::isfinite(below) && std::isfinite(above)) {
-            h.t_enter = q_min <= 0 ? r.t_min : above;
-            h.t_exit = q_max <= 0 ? r.t_max : below;
-            if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;
+        if (const std::optional<Hit<T>> t = sphere_tangent_answer(r, *vertex)) {
             RAYPROOF_COUNT_FLUSH(went_exact);
-            return h;
+            return *t;
         }
     }
     const auto [r0, r1] = q.roots(q.discriminant());
@@ -177,8 +194,10 @@ template <class T, class Q> Hit<T> sphere_certified(const Ray<T>& r, const Q& q)
 }
 
 
-template <class T> [[gnu::noinline, gnu::cold]] Hit<T> sphere_certified_general(const Ray<T>& r, const Sphere<T>& s) {
-    return sphere_certified(r, SphereQuadratic<T>(r, s));
+// disc_sign: sign(b² - a c') where the caller decided it already (SphereQuadratic), else 2.
+template <class T>
+[[gnu::noinline, gnu::cold]] Hit<T> sphere_certified_general(const Ray<T>& r, const Sphere<T>& s, int disc_sign = 2) {
+    return sphere_certified(r, SphereQuadratic<T>(r, s, disc_sign));
 }
 
 }  // namespace rayproof::detail

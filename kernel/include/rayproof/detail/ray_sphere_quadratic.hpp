@@ -7,6 +7,7 @@
 
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/interval.hpp>
+#include <rayproof/detail/ray_sphere_fixed_exact.hpp>
 #include <rayproof/detail/ray_sphere_residual.hpp>
 #include <rayproof/types.hpp>
 
@@ -14,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <type_traits>
 #include <utility>
 
 namespace rayproof::detail {
@@ -43,7 +45,9 @@ inline std::pair<double, double> sphere_root_estimates(Approx a, Approx b, Appro
 template <class T> class SphereQuadratic {
 public:
     using I = Interval<double>;
-    SphereQuadratic(const Ray<T>& r, const Sphere<T>& s) : r_(&r), s_(&s) {
+    // disc_sign: sign(b² - a c') where the caller decided it already (the tangent
+    // shortcut, ray_sphere.hpp), else 2.
+    SphereQuadratic(const Ray<T>& r, const Sphere<T>& s, int disc_sign = 2) : r_(&r), s_(&s), disc_sign_(disc_sign) {
         I a(0.0), b(0.0), dd(0.0);
         for (int j = 0; j < 3; ++j) {
             delta_[j] = I(double(r.origin[j])) - I(double(s.center[j]));
@@ -118,7 +122,10 @@ public:
     // (exact.hpp, ExponentSpan): the positions o, c and the radius by 2^sp, the
     // direction by 2^sd, and t by 2^(sp - sd) (when exact), which multiplies q(t) by
     // 2^(2sp), a t + b by 2^(sp + sd) and b² - a c' by 2^(2sp + 2sd), signs unchanged.
-    // rescale = false keeps the input as it is (the tests compare the two).
+    // The discriminant's sign and the vertex come first from fixed-size sums
+    // (SphereFixedExact, fixed_sums below) on the same given or rescaled input.
+    // rescale = false keeps the input as it is, in the expansion types (the tests
+    // compare the routes).
     int sign_at(double t, bool rescale = true) const {  // sign q(t), t finite
         return sign_of(rescale, t, [](const Values& v, double u, auto tag) {
             using E = typename decltype(tag)::type;
@@ -153,7 +160,13 @@ public:
             return g <= f ? -1 : 1;                // t* in (f, next(f))
         }
     };
-    Vertex vertex() const {
+    Vertex vertex(bool fixed = true) const {
+        if (fixed)
+            if (const std::optional<std::pair<SphereFixedExact, int>> e = fixed_sums())
+                if (const auto v = e->first.vertex()) {
+                    double f;  // t* scaled back: a faithful f stays faithful (no double lies closer)
+                    if (scale_exactly(v->first, -e->second, f)) return Vertex{f, v->second};
+                }
         const Values v = given();
         return *with_exact(safe(), [&](auto tag) -> std::optional<Vertex> {
             using E = typename decltype(tag)::type;
@@ -188,6 +201,11 @@ public:
         return {std::ldexp(r.first, back), std::ldexp(r.second, back)};
     }
     int sign_discriminant(bool rescale = true) const {  // sign(b² - a c')
+        if (rescale) {
+            if (disc_sign_ != 2) return disc_sign_;
+            if (const std::optional<std::pair<SphereFixedExact, int>> e = fixed_sums())
+                if (const std::optional<int> s = e->first.sign_discriminant()) return *s;
+        }
         return sign_of(rescale, 0.0, [](const Values& v, double, auto tag) {
             using E = typename decltype(tag)::type;
             const E b = eb<E>(v);
@@ -196,46 +214,23 @@ public:
     }
 
 private:
-    // The input in double, as given or rescaled.
-    struct Values {
-        double o[3], c[3], d[3], r;
-        int shift;  // t's scale: sp - sd
-    };
-    Values given() const {
-        Values v;
-        for (int j = 0; j < 3; ++j) {
-            v.o[j] = double(r_->origin[j]);
-            v.c[j] = double(s_->center[j]);
-            v.d[j] = double(r_->direction[j]);
-        }
-        v.r = double(s_->radius);
-        v.shift = 0;
-        return v;
+    // The input in double, as given or rescaled (t's scale in shift: sp - sd).
+    using Values = SphereValues;
+    Values given() const { return sphere_given_values(*r_, *s_); }
+    // The fixed-size sums on the given input where it is in their range, else on the
+    // rescaled one, with t's scale; none where neither is.
+    std::optional<std::pair<SphereFixedExact, int>> fixed_sums() const {
+        const SphereFixedExact e(given(), std::is_same_v<T, float>);
+        if (e.usable()) return std::pair{e, 0};
+        if (const std::optional<Values>& v = rescaled()) return std::pair{SphereFixedExact(*v, false), v->shift};
+        return std::nullopt;
     }
     // The rescaled input where the positions and the directions each span at most 199
     // binades; made on first use.
     const std::optional<Values>& rescaled() const {
         if (!rescaled_made_) {
             rescaled_made_ = true;
-            ExponentSpan positions, directions;
-            for (int j = 0; j < 3; ++j) {
-                positions.add(double(r_->origin[j]));
-                positions.add(double(s_->center[j]));
-                directions.add(double(r_->direction[j]));
-            }
-            positions.add(double(s_->radius));
-            const std::optional<int> sp = positions.safe_shift(), sd = directions.safe_shift();
-            if (sp && sd) {
-                Values v = given();
-                for (int j = 0; j < 3; ++j) {
-                    v.o[j] = times_pow2(v.o[j], *sp);
-                    v.c[j] = times_pow2(v.c[j], *sp);
-                    v.d[j] = times_pow2(v.d[j], *sd);
-                }
-                v.r = times_pow2(v.r, *sp);
-                v.shift = *sp - *sd;
-                rescaled_ = v;
-            }
+            rescaled_ = sphere_rescaled_values(*r_, *s_);
         }
         return rescaled_;
     }
@@ -279,6 +274,7 @@ private:
     I delta_[3], a_, b_, c_;
     mutable bool rescaled_made_ = false;
     mutable std::optional<Values> rescaled_;
+    int disc_sign_;
 };
 
 }  // namespace rayproof::detail
