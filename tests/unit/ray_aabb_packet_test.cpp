@@ -399,8 +399,8 @@ TYPED_TEST(Packet, FilterArithmeticFollowsTheReciprocals) {
     const AabbPacket<T, W> p = shifted_cubes<T, W>(T(3));
     if constexpr (std::is_same_v<T, float>) {
         const PreparedRay<T> pr(Ray<T>{Vec3<T>(T(-5), T(0.3), T(-0.2)), Vec3<T>(T(1), T(0x1p-140), T(0.02))});
-        EXPECT_FALSE((detail::packet::all_axes_usable<float>(pr)));
-        EXPECT_TRUE((detail::packet::all_axes_usable<double>(pr)));
+        EXPECT_FALSE((pr.template reciprocals_usable_in<float>()));
+        EXPECT_TRUE((pr.template reciprocals_usable_in<double>()));
         for (const auto& d : {detail::packet::certified_filter<simd::portable>(pr, p),
                               detail::packet::certified_filter<simd::native>(pr, p)}) {
             EXPECT_EQ(d.undecided, 0u);
@@ -409,7 +409,7 @@ TYPED_TEST(Packet, FilterArithmeticFollowsTheReciprocals) {
         check_packet(pr.ray(), p);
     } else {
         const PreparedRay<T> pr(Ray<T>{Vec3<T>(T(-5), T(0.3), T(-0.2)), Vec3<T>(T(0x1p1023), T(0.01), T(0.02))});
-        EXPECT_FALSE((detail::packet::all_axes_usable<double>(pr)));
+        EXPECT_FALSE((pr.template reciprocals_usable_in<double>()));
         EXPECT_EQ(detail::packet::certified_filter<simd::native>(pr, p).undecided, (1u << W) - 1);
         check_packet(pr.ray(), p);
     }

@@ -322,8 +322,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE bool bvh_scaled_usable(const PreparedR
 }
 template <class T> RAYPROOF_ALWAYS_INLINE BvhFilter bvh_filter_for(const PreparedRay<T>& pr) noexcept {
     if constexpr (std::is_same_v<T, float>)
-        if (packet::all_axes_usable<float>(pr)) return BvhFilter::in_float;
-    return packet::all_axes_usable<double>(pr) ? BvhFilter::in_double : BvhFilter::scalar;
+        if (pr.template reciprocals_usable_in<float>()) return BvhFilter::in_float;
+    return pr.template reciprocals_usable_in<double>() ? BvhFilter::in_double : BvhFilter::scalar;
 }
 template <class T> RAYPROOF_ALWAYS_INLINE BvhFilter bvh_fast_filter_for(const PreparedRay<T>& pr) noexcept {
     // No axis parallel and every reciprocal in T normal and finite.

@@ -75,10 +75,13 @@ public:
     // test no axis for it when none is.
     [[nodiscard]] unsigned parallel_axes() const noexcept { return k_.parallel; }
     // Each axis either parallel (d_i = ±0) or with its reciprocal in E normal and finite: in
-    // double rinv_i, in float fl_float(rinv_i) (= inv(i) for a float ray). The box
-    // packets' and the BVH's filters in E take the ray into their lanes only then
+    // double rinv_i, in float fl_float(rinv_i) (= inv(i) for a float ray; double: |d| <
+    // 2^1022, float: 2^-128 <= |d| <= 2^126, up to the roundings of the reciprocal). The
+    // box packets' and the BVH's filters in E take the ray into their lanes only then
     // (ray_aabb_packet.hpp: the relative bound of the reciprocal holds on every axis that
-    // is not parallel). Independent of the range and of the origin.
+    // is not parallel). Independent of the range and of the origin. Decided here once,
+    // not per packet (measured, certified float W = 8 on shuffled pairs: 1.67 ns a box
+    // test with three per-axis tests in every call, 1.33 with this flag).
     template <class E> [[nodiscard]] bool reciprocals_usable_in() const noexcept {
         static_assert(is_scalar_v<E>, "reciprocals_usable_in<E>: E is float or double");
         if constexpr (std::is_same_v<E, double>) return k_.usable_double;

@@ -165,14 +165,6 @@ template <class E, class T> RAYPROOF_ALWAYS_INLINE E reciprocal(const PreparedRa
     if constexpr (std::is_same_v<E, double>) return pr.rinv(i);
     else return pr.inv(i);
 }
-// Each axis parallel or with its reciprocal in E normal and finite (double: |d| <
-// 2^1022; float: 2^-128 <= |d| <= 2^126, up to the roundings of the reciprocal): decided
-// once by the prepared ray (reciprocals_usable_in), not per packet (measured, certified
-// float W = 8 on shuffled pairs: 1.67 ns a box test with three per-axis tests in every
-// call, 1.33 with the prepared flag).
-template <class E, class T> RAYPROOF_ALWAYS_INLINE bool all_axes_usable(const PreparedRay<T>& pr) {
-    return pr.template reciprocals_usable_in<E>();
-}
 
 template <class T, int W> PacketHit<T, W> empty_hit() {
     PacketHit<T, W> h;
@@ -338,7 +330,7 @@ template <class B, bool Full, class T, int W>
 RAYPROOF_ALWAYS_INLINE PacketHit<T, W> conservative(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
     PacketHit<T, W> h = empty_hit<T, W>();
     if (!pr.valid()) return h;
-    if (!all_axes_usable<double>(pr)) {
+    if (!pr.template reciprocals_usable_in<double>()) {
         for (int i = 0; i < W; ++i)
             if (valid(b.box(i))) put(h, i, query_in_env(pr, b.box(i), rayproof::conservative));
         return h;
@@ -392,9 +384,9 @@ RAYPROOF_ALWAYS_INLINE Decided certified_filter_in(const PreparedRay<T>& pr, con
 template <class B, class T, int W>
 RAYPROOF_ALWAYS_INLINE Decided certified_filter(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
     if constexpr (std::is_same_v<T, float>)
-        if (all_axes_usable<float>(pr)) [[likely]]
+        if (pr.template reciprocals_usable_in<float>()) [[likely]]
             return certified_filter_in<float, B>(pr, b);
-    if (all_axes_usable<double>(pr)) [[likely]]
+    if (pr.template reciprocals_usable_in<double>()) [[likely]]
         return certified_filter_in<double, B>(pr, b);
     return {0, (1u << W) - 1};
 }
