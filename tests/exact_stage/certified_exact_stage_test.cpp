@@ -536,7 +536,8 @@ TYPED_TEST(CertifiedExactStage, SphereTouchingPointAnswersTheFloatBelowIt) {
 // neighbours, at the ends of the range and at 0, so that it is a faithful rounding of
 // t* with the right side; likewise SphereQuadratic's own answers, which take the sums
 // first. The sums must decide nearly every case they are offered (they decline only
-// when a fixed capacity does not suffice), and the rescaled input must be among them.
+// when a fixed capacity does not suffice), must answer nothing on input outside their
+// range, and the rescaled input must be among them.
 TYPED_TEST(CertifiedExactStage, SphereFixedSumsAreTheExpansionsSigns) {
     using T = TypeParam;
     int offered = 0, declined = 0, tangents = 0, rescaled = 0;
@@ -544,6 +545,7 @@ TYPED_TEST(CertifiedExactStage, SphereFixedSumsAreTheExpansionsSigns) {
         detail::SphereValues v = detail::sphere_given_values(c.ray, c.shape);
         detail::SphereFixedExact e(v, std::is_same_v<T, float>);
         if (!e.usable()) {
+            ASSERT_FALSE(e.sign_discriminant() || e.vertex()) << where << ": an answer on input the sums do not take";
             const std::optional<detail::SphereValues> w = detail::sphere_rescaled_values(c.ray, c.shape);
             if (!w) return;
             v = *w;

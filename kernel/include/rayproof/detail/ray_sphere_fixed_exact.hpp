@@ -94,9 +94,10 @@ public:
     // Whether the input is in the range the derivation above covers.
     bool usable() const { return usable_; }
 
-    // sign(b² - a c') = sign(a r² - |Δ × d|²), or none where a capacity did not suffice.
-    // Precondition: usable().
+    // sign(b² - a c') = sign(a r² - |Δ × d|²), or none where the input is not usable() or
+    // a capacity did not suffice.
     std::optional<int> sign_discriminant() const {
+        if (!usable_) return std::nullopt;
         GrowingSum<48> D;
         for (int j = 0; j < 3; ++j)
             for (const double x : {r2_.hi, r2_.lo})
@@ -123,9 +124,10 @@ public:
     // The vertex t* = -b/a as a double f with sign(f - t*), where t* is f itself or lies
     // strictly between f and its neighbour on that side (as SphereQuadratic::Vertex):
     // from the estimate -b~/a~, stepped one double at a time (at most four steps) until
-    // sign(a g + b) changes; none where a capacity or a product's range did not suffice.
-    // Precondition: usable().
+    // sign(a g + b) changes; none where the input is not usable() or a capacity or a
+    // product's range did not suffice.
     std::optional<std::pair<double, int>> vertex() const {
+        if (!usable_) return std::nullopt;
         GrowingSum<16> b;
         for (int j = 0; j < 3; ++j) {
             b.add_product(h_[j], d_[j]);
