@@ -542,17 +542,16 @@ TYPED_TEST(CertifiedExactStage, SphereFixedSumsAreTheExpansionsSigns) {
     using T = TypeParam;
     int offered = 0, declined = 0, tangents = 0, rescaled = 0;
     on_valid_cases<T, Sphere<T>>("the fixed sums", [&](const auto& c, const std::string& where, bool& answered) {
-        detail::SphereValues v = detail::sphere_given_values(c.ray, c.shape);
-        detail::SphereFixedExact e(v, std::is_same_v<T, float>);
-        if (!e.usable()) {
-            ASSERT_FALSE(e.sign_discriminant() || e.vertex()) << where << ": an answer on input the sums do not take";
-            const std::optional<detail::SphereValues> w = detail::sphere_rescaled_values(c.ray, c.shape);
-            if (!w) return;
-            v = *w;
-            e = detail::SphereFixedExact(v, false);
-            ASSERT_TRUE(e.usable()) << where << ": a rescaled input the sums do not take";
-            ++rescaled;
+        const detail::SphereFixedExact given(detail::sphere_given_values(c.ray, c.shape), std::is_same_v<T, float>);
+        if (!given.usable()) {
+            ASSERT_FALSE(given.sign_discriminant() || given.vertex()) << where << ": an answer on input the sums do not take";
         }
+        const std::optional<detail::SphereValues> w = detail::sphere_rescaled_values(c.ray, c.shape);
+        const std::optional<detail::SphereFixedInput> e = detail::sphere_fixed_input(c.ray, c.shape, [&] { return w; });
+        ASSERT_EQ(e.has_value(), given.usable() || w.has_value()) << where << ": the input the sums take";
+        if (!e) return;
+        ASSERT_TRUE(e->sums.usable()) << where << ": a rescaled input the sums do not take";
+        rescaled += !given.usable();
         answered = true;
         ++offered;
         const detail::SphereQuadratic<T> q(c.ray, c.shape);
@@ -560,13 +559,13 @@ TYPED_TEST(CertifiedExactStage, SphereFixedSumsAreTheExpansionsSigns) {
         const int exact = q.sign_discriminant(false);
         tangents += exact == 0;
         ASSERT_EQ(q.sign_discriminant(), exact) << what << ": the discriminant's sign";
-        const std::optional<int> sd = e.sign_discriminant();
+        const std::optional<int> sd = e->sign_discriminant();
         if (sd) {
             ASSERT_EQ(*sd, exact) << what << ": the fixed sums' discriminant sign";
         }
-        const auto v_fixed = e.vertex();
-        double f_fixed = 0;
-        const bool have = v_fixed && detail::scale_exactly(v_fixed->first, -v.shift, f_fixed);
+        const std::optional<std::pair<double, int>> v_fixed = e->vertex();
+        const bool have = v_fixed.has_value();
+        const double f_fixed = have ? v_fixed->first : 0.0;
         declined += !sd + !have;
         using Vertex = typename detail::SphereQuadratic<T>::Vertex;
         const Vertex expansions = q.vertex(false), taken = q.vertex();

@@ -200,25 +200,19 @@ template <class T> struct SphereTangentTry {
     int disc_sign = 2;  // sign(b² - a c') where decided, else 2
 };
 template <class T> SphereTangentTry<T> sphere_tangent_shortcut(const Ray<T>& r, const Sphere<T>& s) {
-    SphereValues v = sphere_given_values(r, s);
-    SphereFixedExact e(v, std::is_same_v<T, float>);
-    if (!e.usable()) {
-        const std::optional<SphereValues> w = sphere_rescaled_values(r, s);
-        if (!w) return {};
-        v = *w;
-        e = SphereFixedExact(v, false);
-    }
+    const std::optional<SphereFixedInput> e = sphere_fixed_input(r, s, [&] { return sphere_rescaled_values(r, s); });
+    if (!e) return {};
+    const SphereValues& v = e->values;
     const double delta[3] = {v.o[0] - v.c[0], v.o[1] - v.c[1], v.o[2] - v.c[2]};
     const double a = v.d[0] * v.d[0] + v.d[1] * v.d[1] + v.d[2] * v.d[2];
     const SphereLineCertificate lc = sphere_line_certificate(v.d, delta, v.r * v.r, a);
     if (std::abs(lc.D) > lc.E) return {};  // l != r proven: not a tangent
-    const std::optional<int> sd = e.sign_discriminant();
+    const std::optional<int> sd = e->sign_discriminant();
     if (!sd) return {};
     if (*sd != 0) return {std::nullopt, *sd};
-    const std::optional<std::pair<double, int>> vx = e.vertex();
-    double f;  // t* scaled back: a faithful f stays faithful (no double lies closer)
-    if (!vx || !scale_exactly(vx->first, -v.shift, f)) return {std::nullopt, 0};
-    const std::optional<Hit<T>> h = sphere_tangent_answer(r, typename SphereQuadratic<T>::Vertex{f, vx->second});
+    const std::optional<std::pair<double, int>> vx = e->vertex();
+    if (!vx) return {std::nullopt, 0};
+    const std::optional<Hit<T>> h = sphere_tangent_answer(r, typename SphereQuadratic<T>::Vertex{vx->first, vx->second});
     if (h) {  // counted as a query that went to exact arithmetic
         [[maybe_unused]] const bool went_exact = true;
         RAYPROOF_COUNT_QUERY();

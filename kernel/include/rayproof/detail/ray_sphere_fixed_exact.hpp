@@ -172,4 +172,37 @@ private:
     bool floats_, usable_;
 };
 
+// The fixed-size sums on the values they take: the input as given where it is in their
+// range, else as rescaled; the one place that chooses, for the tangent shortcut
+// (ray_sphere.hpp) and SphereQuadratic's exact signs.
+struct SphereFixedInput {
+    SphereFixedInput(const SphereValues& v, bool floats) : values(v), sums(v, floats) {}
+    SphereValues values;  // the values taken (t's scale in values.shift)
+    SphereFixedExact sums;
+    std::optional<int> sign_discriminant() const { return sums.sign_discriminant(); }
+    // The vertex as SphereFixedExact::vertex() answers it, scaled back to the given t: a
+    // faithful f stays faithful (no double lies closer); none where it does not scale
+    // back exactly.
+    std::optional<std::pair<double, int>> vertex() const {
+        const std::optional<std::pair<double, int>> v = sums.vertex();
+        double f;
+        if (!v || !scale_exactly(v->first, -values.shift, f)) return std::nullopt;
+        return std::pair{f, v->second};
+    }
+};
+// rescaled(): the rescaled input (sphere_rescaled_values), asked only where the given
+// input is out of range (a caller that keeps it makes it once); none where neither
+// input is in range.
+template <class T, class Rescaled>
+std::optional<SphereFixedInput> sphere_fixed_input(const Ray<T>& r, const Sphere<T>& s, Rescaled&& rescaled) {
+    std::optional<SphereFixedInput> e(std::in_place, sphere_given_values(r, s), std::is_same_v<T, float>);
+    if (!e->sums.usable()) {
+        if (const std::optional<SphereValues>& w = rescaled())
+            e.emplace(*w, false);
+        else
+            e.reset();
+    }
+    return e;
+}
+
 }  // namespace rayproof::detail

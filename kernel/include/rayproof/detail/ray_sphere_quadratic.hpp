@@ -162,11 +162,8 @@ public:
     };
     Vertex vertex(bool fixed = true) const {
         if (fixed)
-            if (const std::optional<std::pair<SphereFixedExact, int>> e = fixed_sums())
-                if (const auto v = e->first.vertex()) {
-                    double f;  // t* scaled back: a faithful f stays faithful (no double lies closer)
-                    if (scale_exactly(v->first, -e->second, f)) return Vertex{f, v->second};
-                }
+            if (const std::optional<SphereFixedInput>& e = fixed_sums())
+                if (const std::optional<std::pair<double, int>> v = e->vertex()) return Vertex{v->first, v->second};
         const Values v = given();
         return *with_exact(safe(), [&](auto tag) -> std::optional<Vertex> {
             using E = typename decltype(tag)::type;
@@ -203,8 +200,8 @@ public:
     int sign_discriminant(bool rescale = true) const {  // sign(b² - a c')
         if (rescale) {
             if (disc_sign_ != 2) return disc_sign_;
-            if (const std::optional<std::pair<SphereFixedExact, int>> e = fixed_sums())
-                if (const std::optional<int> s = e->first.sign_discriminant()) return *s;
+            if (const std::optional<SphereFixedInput>& e = fixed_sums())
+                if (const std::optional<int> s = e->sign_discriminant()) return *s;
         }
         return sign_of(rescale, 0.0, [](const Values& v, double, auto tag) {
             using E = typename decltype(tag)::type;
@@ -217,13 +214,14 @@ private:
     // The input in double, as given or rescaled (t's scale in shift: sp - sd).
     using Values = SphereValues;
     Values given() const { return sphere_given_values(*r_, *s_); }
-    // The fixed-size sums on the given input where it is in their range, else on the
-    // rescaled one, with t's scale; none where neither is.
-    std::optional<std::pair<SphereFixedExact, int>> fixed_sums() const {
-        const SphereFixedExact e(given(), std::is_same_v<T, float>);
-        if (e.usable()) return std::pair{e, 0};
-        if (const std::optional<Values>& v = rescaled()) return std::pair{SphereFixedExact(*v, false), v->shift};
-        return std::nullopt;
+    // The fixed-size sums (sphere_fixed_input) on the given or rescaled input; made on
+    // first use, once for the discriminant's sign and the vertex.
+    const std::optional<SphereFixedInput>& fixed_sums() const {
+        if (!fixed_made_) {
+            fixed_made_ = true;
+            fixed_ = sphere_fixed_input(*r_, *s_, [&]() -> const std::optional<Values>& { return rescaled(); });
+        }
+        return fixed_;
     }
     // The rescaled input where the positions and the directions each span at most 199
     // binades; made on first use.
@@ -274,6 +272,8 @@ private:
     I delta_[3], a_, b_, c_;
     mutable bool rescaled_made_ = false;
     mutable std::optional<Values> rescaled_;
+    mutable bool fixed_made_ = false;
+    mutable std::optional<SphereFixedInput> fixed_;
     int disc_sign_;
 };
 
