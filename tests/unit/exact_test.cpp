@@ -875,6 +875,71 @@ TEST(ExactSlabValues, SumSignAgainstMpq) {
     }
 }
 
+// GrowingSum's compress against GMP: the value is unchanged, the components stay
+// nonzero, nonoverlapping and increasing in magnitude, and there are no more of them;
+// and sign_cross_difference on two compressed sums of products is mpq's sign, on
+// exact ties (the second pair a scaled copy of the first) and near ones.
+template <int N> mpq_class Q(const GrowingSum<N>& s) {
+    mpq_class v = 0;
+    for (int k = 0; k < s.n; ++k) v += Q(s.e[k]);
+    return v;
+}
+template <int N> void expect_nonoverlapping(const GrowingSum<N>& s) {
+    for (int k = 0; k < s.n; ++k) {
+        ASSERT_NE(s.e[k], 0.0) << "component " << k;
+        if (k > 0) {  // |e[k-1]| below the last nonzero bit of e[k]
+            const double lsb = std::ldexp(1.0, std::ilogb(s.e[k]) - 52 + std::countr_zero(std::bit_cast<std::uint64_t>(s.e[k]) | (1ull << 52)));
+            ASSERT_LT(std::abs(s.e[k - 1]), lsb) << "components " << k - 1 << " and " << k;
+        }
+    }
+}
+TEST(ExactSlabValues, CompressAndCrossDifferenceAgainstMpq) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    int ties = 0;
+    for (int it = 0; it < 20000; ++it) {
+        GrowingSum<16> x[2];
+        GrowingSum<8> y[2];
+        std::string terms;
+        double prev = 1;
+        for (int k = 0; k < 6; ++k) {
+            prev = safe_interesting(rng, prev);
+            const double f = safe_interesting(rng, 1);
+            x[0].add_product(prev, f);
+            terms += hex(prev) + "*" + hex(f) + " ";
+        }
+        for (int k = 0; k < 3; ++k) {
+            prev = safe_interesting(rng, prev);
+            y[0].add(prev);
+            terms += "/ " + hex(prev) + " ";
+        }
+        SCOPED_TRACE(terms);
+        const mpq_class vx = Q(x[0]), vy = Q(y[0]);
+        const int nx = x[0].n;
+        x[0].compress();
+        y[0].compress();
+        ASSERT_EQ(Q(x[0]), vx);
+        ASSERT_EQ(Q(y[0]), vy);
+        ASSERT_LE(x[0].n, nx);
+        expect_nonoverlapping(x[0]);
+        expect_nonoverlapping(y[0]);
+        if (::testing::Test::HasFatalFailure()) return;
+        // the second pair: the first times 2^a and 2^b (an exact tie of x/y), or with
+        // one more term (a near tie)
+        const int a = static_cast<int>(rng() % 9) - 4, b = static_cast<int>(rng() % 9) - 4;
+        for (int k = 0; k < x[0].n; ++k) x[1].add(std::ldexp(x[0].e[k], a));
+        for (int k = 0; k < y[0].n; ++k) y[1].add(std::ldexp(y[0].e[k], b));
+        if (rng() % 2) x[1].add(safe_interesting(rng, 1) * 0x1p-60);
+        x[1].compress();
+        const std::optional<int> s = sign_cross_difference<64>(x[0], y[1], x[1], y[0]);
+        const mpq_class d = Q(x[0]) * Q(y[1]) - Q(x[1]) * Q(y[0]);
+        ASSERT_TRUE(s.has_value());
+        ASSERT_EQ(*s, sgn(d));
+        ties += d == 0;
+    }
+    EXPECT_GT(ties, 1000);
+}
+
 // compare_slab_values and compare_slab_value against GMP on slab values of the safe
 // range, near ties above all: the second value the first scaled by a power of two in
 // both its difference and its denominator (an exact tie), or that tie moved by an ulp

@@ -806,7 +806,49 @@ template <int N> struct GrowingSum {
         for (int j = 0; j < n; ++j) s += e[j];
         return s;
     }
+    // The same value in as few components as COMPRESS leaves (Shewchuk 1997, section
+    // 2.8: two passes of fast_two_sum, exact on a nonoverlapping expansion), still
+    // nonoverlapping by increasing magnitude: fewer terms for the products taken next.
+    void compress() {
+        if (n < 2) return;
+        double g[std::size_t(N)];
+        int bottom = n - 1;
+        double q = e[n - 1];
+        for (int i = n - 2; i >= 0; --i) {
+            const Pair s = fast_two_sum(q, e[i]);
+            if (s.lo != 0) {
+                g[bottom--] = s.hi;
+                q = s.lo;
+            } else {
+                q = s.hi;
+            }
+        }
+        g[bottom] = q;
+        int top = 0;
+        for (int i = bottom + 1; i < n; ++i) {
+            const Pair s = fast_two_sum(g[i], q);
+            if (s.lo != 0) e[top++] = s.lo;
+            q = s.hi;
+        }
+        e[top++] = q;
+        n = top;
+    }
 };
+
+// sign(x1·y1 - x2·y2) for exact sums (GrowingSum) whose every product of a component of
+// an x by one of the y beside it two_prod takes exactly (the caller's ranges say so:
+// each at least 2^-916 in magnitude where nonzero, and far from overflow): the products
+// grown into one sum of at most N components; none where N does not suffice.
+template <int N, class X, class Y>
+std::optional<int> sign_cross_difference(const X& x1, const Y& y1, const X& x2, const Y& y2) {
+    GrowingSum<N> s;
+    for (int i = 0; i < x1.n; ++i)
+        for (int j = 0; j < y1.n; ++j) s.add_product(x1.e[i], y1.e[j]);
+    for (int i = 0; i < x2.n; ++i)
+        for (int j = 0; j < y2.n; ++j) s.add_product(-x2.e[i], y2.e[j]);
+    if (s.full) return std::nullopt;
+    return s.sign();
+}
 
 // The exact sign of x[0] + ... + x[n-1] (finite doubles, n <= 8, no partial sum near
 // overflow): the terms grown into one expansion (GrowingSum), whose largest component
