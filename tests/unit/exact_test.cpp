@@ -819,6 +819,28 @@ template <class T> void singular_suite(std::mt19937_64& rng, const std::vector<i
     ::testing::Test::RecordProperty("nonzeros", nonzeros);
 }
 
+// Integer matrices (singular or not) scaled as a whole by one power of two across the
+// double range: outside the Expansion type's range but spanning few binades, det3_sign
+// rescales them first; the sign is mpq's, and the rescaled route is taken on most.
+TEST(ExactDet3, UniformlyScaledAgainstMpq) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    int rescaled = 0;
+    for (int it = 0; it < 6000; ++it) {
+        Eigen::Matrix3d m;
+        for (int k = 0; k < 9; ++k) m.data()[k] = static_cast<double>(static_cast<int>(rng() % 17) - 8);
+        if (rng() % 2)  // singular: row 2 = α row 0 + β row 1
+            m.row(2) = static_cast<double>(static_cast<int>(rng() % 7) - 3) * m.row(0) +
+                       static_cast<double>(static_cast<int>(rng() % 7) - 3) * m.row(1);
+        const int e = static_cast<int>(rng() % 2000) - 1000;
+        for (int k = 0; k < 9; ++k) m.data()[k] = std::ldexp(m.data()[k], e);
+        SCOPED_TRACE(mat_str(m));
+        ASSERT_EQ(det3_sign(m), sgn(det_q(m)));
+        rescaled += !expansion_safe(m);
+    }
+    EXPECT_GT(rescaled, 4000);
+}
+
 TEST(ExactDet3, SingularAndNearSingularDouble) {
     SEED_TRACE();
     auto rng = make_rng();

@@ -900,14 +900,26 @@ template <class E, class T> E det3_exact(const Eigen::Matrix<T, 3, 3>& m) {
 // <= gamma(6)·P_fl. The bound is computed as fl(fl(gamma(7))·P_fl) (normal: >= 2^-950)
 // >= gamma(7)(1 − u)^2·P_fl >= gamma(6)·P_fl, so |det_fl| > bound proves the sign.
 // Otherwise: exact, with Expansion when the entries are expansion_safe (degree 3),
-// else (or on overflow) with BigDyadic.
+// else (or on overflow) with BigDyadic. Finite entries outside the filter's or the
+// Expansion type's range are first rescaled by one power of two 2^s into
+// [2^-100, 2^100] where they span at most 199 binades (ExponentSpan; each product
+// exact), which multiplies the determinant by 2^(3s), its sign unchanged.
 template <class T> int det3_sign(const Eigen::Matrix<T, 3, 3>& m) {
     static_assert(std::is_same_v<T, float> || std::is_same_v<T, double>);
-    bool filterable = true;
+    bool filterable = true, finite = true;
+    ExponentSpan span;
     for (int k = 0; k < 9; ++k) {
-        const double x = std::abs(static_cast<double>(m.data()[k]));
+        const double v = static_cast<double>(m.data()[k]), x = std::abs(v);
         filterable &= x == 0 || (x >= 0x1p-300 && x <= 0x1p300);  // false for NaN, inf
+        finite &= std::isfinite(v);
+        if (std::isfinite(v)) span.add(v);
     }
+    if (finite && !expansion_safe(m))
+        if (const std::optional<int> s = span.safe_shift(); s && *s != 0) {
+            Eigen::Matrix<double, 3, 3> w;
+            for (int k = 0; k < 9; ++k) w.data()[k] = times_pow2(static_cast<double>(m.data()[k]), *s);
+            return det3_sign(w);
+        }
     if (filterable) {
         const double a = m(0, 0), b = m(0, 1), c = m(0, 2);
         const double d = m(1, 0), e = m(1, 1), f = m(1, 2);
