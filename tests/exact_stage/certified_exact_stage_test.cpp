@@ -264,6 +264,70 @@ TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
     }
 }
 
+// The oriented box's exact comparisons and exact rounding through its frame, which
+// compares without an expansion type (ObbQuotients::quick_compare: sums of error-free
+// products) and, where the input is not safe, at a safer scale (ObbQuotients::rescaled,
+// which also rounds there for double), decide as its bare quotients in expansions or
+// BigDyadic: on every valid case of every generator, every pair among the slab values
+// of the non-parallel axes and the constants t_min, t_max, 0, the slab values' rounded
+// estimates and their neighbours has the same exact_compare sign both ways, and each
+// slab value's exact_faithful t is a faithful rounding by the bare comparisons (the
+// exact value, or strictly between t and its neighbour on the side the sign gives).
+// The rescaled input must lie in the safe range, and both routes must be exercised.
+TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
+    using T = TypeParam;
+    int scaled_cases = 0, quick = 0;
+    on_valid_cases<T, Obb<T>>("the comparisons", [&](const auto& c, const std::string& where, bool& answered) {
+        answered = true;
+        const detail::ObbFrame<T> f(c.ray, c.shape);
+        const detail::Unscaled<detail::ObbFrame<T>> bare{f};
+        const std::string what = where + ": " + ::testing::PrintToString(c.ray) + " vs " + ::testing::PrintToString(c.shape);
+        if (!f.safe() && f.scaled()) {
+            ++scaled_cases;
+            ASSERT_TRUE(f.scaled()->safe()) << what;
+        }
+        quick += f.safe();
+        std::vector<detail::SlabRef> refs{{-1, 0, c.ray.t_min}, {-1, 0, c.ray.t_max}, {-1, 0, 0.0}};
+        std::vector<std::pair<int, int>> values;
+        for (int i = 0; i < 3; ++i) {
+            if (f.den_sign(i) == 0) continue;
+            const Vec3<double> a = c.shape.axes.col(i).template cast<double>();
+            const double op = a.dot(c.ray.origin.template cast<double>() - c.shape.center.template cast<double>()),
+                         dp = a.dot(c.ray.direction.template cast<double>());
+            for (int side = 0; side < 2; ++side) {
+                refs.push_back({i, side, 0});
+                values.emplace_back(i, side);
+                const double h = c.shape.half_extent[i], est = ((side ? h : -h) - op) / dp;
+                if (std::isfinite(est))
+                    for (const double v : {est, std::nextafter(est, -HUGE_VAL), std::nextafter(est, HUGE_VAL)})
+                        refs.push_back({-1, 0, v});
+            }
+        }
+        for (const auto& a : refs)
+            for (const auto& b : refs) {
+                if (a.axis < 0 && b.axis < 0) continue;
+                ASSERT_EQ(detail::exact_compare(f, a, b), detail::exact_compare(bare, a, b))
+                    << what << "\n  refs (" << a.axis << ", " << a.side << ", " << a.c << ") and (" << b.axis << ", "
+                    << b.side << ", " << b.c << ")";
+            }
+        for (const auto& [i, side] : values) {
+            const T t = detail::exact_faithful<T>(f, i, side);
+            const detail::SlabRef v{i, side, 0};
+            const int s = detail::exact_compare(bare, v, {-1, 0, double(t)});  // sign(value - t)
+            if (s == 0) continue;
+            const T next = s > 0 ? std::nextafter(t, std::numeric_limits<T>::infinity())
+                                 : std::nextafter(t, -std::numeric_limits<T>::infinity());
+            if (!std::isfinite(next)) continue;  // beyond ±max: t = ±max encloses it
+            ASSERT_EQ(detail::exact_compare(bare, v, {-1, 0, double(next)}), -s)
+                << what << "\n  slab value (" << i << ", " << side << ") rounded to " << t << ": not faithful";
+        }
+    });
+    EXPECT_GT(quick, 1000) << "the quick comparisons should be exercised";
+    if constexpr (std::is_same_v<T, double>) {  // every float is safe
+        EXPECT_GT(scaled_cases, 100) << "the scaled comparisons should be exercised";
+    }
+}
+
 // The sphere's exact signs on the rescaled input (SphereQuadratic, where the given one
 // is not safe for expansions) are those on the given input: on every valid case of
 // every generator, sign q(t) and sign(a t + b) at t_min, 0, t_max, the estimated roots

@@ -139,6 +139,132 @@ template <class T> RAYPROOF_ALWAYS_INLINE Pinned<T> obb_pinned_value(const Ray<T
     return {faithful_to<T>(x.c), x.pinned};
 }
 
+// The slab values (±h_i - o'_i)/d'_i as exact quotients (detail/certified.hpp,
+// ExactQuotients) over the input in double: as given (widened), or rescaled into the
+// range where the Expansion type and quick_compare are exact (rescaled()).
+// Rescaling: the positions (o, c) by 2^sp, the axes by 2^sa, the half-extents by
+// 2^(sp + sa) and the direction by 2^sd (each exact: every scaled value is a normal
+// double) multiply every num by 2^(sp + sa), every den by 2^(sa + sd) and every
+// quotient by 2^(sp - sd) = 2^shift(), so that the sign of a difference of two of them,
+// or of one and a constant scaled alike, is unchanged.
+class ObbQuotients {
+public:
+    template <class T> ObbQuotients(const Ray<T>& r, const Obb<T>& b) : shift_(0) {
+        safe_ = true;
+        for (int j = 0; j < 3; ++j) {
+            o_[j] = double(r.origin[j]);
+            c_[j] = double(b.center[j]);
+            d_[j] = double(r.direction[j]);
+            h_[j] = double(b.half_extent[j]);
+            for (int i = 0; i < 3; ++i) a_[i][j] = double(b.axes(j, i));
+            safe_ = safe_ && expansion_safe(r.origin[j]) && expansion_safe(r.direction[j]) &&
+                    expansion_safe(b.center[j]) && expansion_safe(b.half_extent[j]) && expansion_safe(b.axes(j, 0)) &&
+                    expansion_safe(b.axes(j, 1)) && expansion_safe(b.axes(j, 2));
+        }
+    }
+    // The input rescaled as above with every scaled value in [2^-100, 2^100] or 0, where
+    // such sp, sa, sd exist: each group's shifts form a range (ExponentSpan), and the
+    // half-extents' range bounds sp + sa; none where a range is empty.
+    template <class T> static std::optional<ObbQuotients> rescaled(const Ray<T>& r, const Obb<T>& b) {
+        ExponentSpan positions, axes, halves, directions;
+        for (int j = 0; j < 3; ++j) {
+            positions.add(double(r.origin[j]));
+            positions.add(double(b.center[j]));
+            halves.add(double(b.half_extent[j]));
+            directions.add(double(r.direction[j]));
+            for (int i = 0; i < 3; ++i) axes.add(double(b.axes(j, i)));
+        }
+        const std::optional<int> sd = directions.safe_shift();
+        const ShiftRange p = positions.shift_range(), a = axes.shift_range(), h = halves.shift_range();
+        // sp + sa in [p.lo + a.lo, p.hi + a.hi] ∩ [h.lo, h.hi]; then sp and sa within their own
+        const int lo = std::max(p.lo + a.lo, h.lo), hi = std::min(p.hi + a.hi, h.hi);
+        if (!sd || p.lo > p.hi || a.lo > a.hi || lo > hi) return std::nullopt;
+        const int sum = std::clamp(0, lo, hi), sp = std::max(p.lo, sum - a.hi), sa = sum - sp;
+        ObbQuotients q(r, b);
+        for (int j = 0; j < 3; ++j) {
+            q.o_[j] = times_pow2(q.o_[j], sp);
+            q.c_[j] = times_pow2(q.c_[j], sp);
+            q.d_[j] = times_pow2(q.d_[j], *sd);
+            q.h_[j] = times_pow2(q.h_[j], sum);
+            for (int i = 0; i < 3; ++i) q.a_[i][j] = times_pow2(q.a_[i][j], sa);
+        }
+        q.shift_ = sp - *sd;
+        q.safe_ = true;
+        return q;
+    }
+    int shift() const { return shift_; }
+    bool safe() const { return safe_; }
+    template <class E> E num(int i, int side) const { return E(side ? h_[i] : -h_[i]) - oprime<E>(i); }
+    template <class E> E den(int i) const {
+        E s(0.0);
+        for (int j = 0; j < 3; ++j) s = s + E(a_[i][j]) * E(d_[j]);
+        return s;
+    }
+    template <class E> E oprime(int i) const {
+        E s(0.0);
+        for (int j = 0; j < 3; ++j) s = s + E(a_[i][j]) * (E(o_[j]) - E(c_[j]));
+        return s;
+    }
+    // exact_compare's sign without an expansion type, for safe() input (every value 0
+    // or a multiple of 2^-152 below 2^100; every float a multiple of 2^-149 below
+    // 2^128): num = ±h_i - Σ_j a_ji o_j + Σ_j a_ji c_j and den = Σ_j a_ji d_j as sums of
+    // error-free products (13 and 6 doubles: each product of two inputs is two doubles
+    // by two_prod, its error term a multiple of 2^-304), compressed; then
+    // sign(n1 d2 - n2 d1)·sign(d1 d2) from their components' products (each a multiple
+    // of 2^-608, far above the 2^-916 two_prod needs, and below 2^410), or
+    // sign(n - c·den)·sign(den) for a constant c, whose products are checked. None
+    // where a capacity does not suffice or a product by c may be inexact.
+    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const {
+        if (a.axis < 0) {
+            const std::optional<int> s = quick_compare(b, a);
+            if (!s) return std::nullopt;
+            return -*s;
+        }
+        const GrowingSum<16> n1 = num_sum(a.axis, a.side);
+        const GrowingSum<8> d1 = den_sum(a.axis);
+        if (b.axis >= 0) {
+            const GrowingSum<16> n2 = num_sum(b.axis, b.side);
+            const GrowingSum<8> d2 = den_sum(b.axis);
+            const std::optional<int> s = sign_cross_difference<32>(n1, d2, n2, d1);
+            if (!s) return std::nullopt;
+            return *s * d1.sign() * d2.sign();
+        }
+        GrowingSum<32> s;
+        for (int k = 0; k < n1.n; ++k) s.add(n1.e[k]);
+        for (int k = 0; k < d1.n && b.c != 0; ++k) {  // (a product that underflows to 0 is not exact)
+            const double p = std::abs(b.c * d1.e[k]);
+            if (!(p >= exact_impl::kMinExactProduct && p <= 0x1p1000)) return std::nullopt;
+            s.add_product(-b.c, d1.e[k]);
+        }
+        if (s.full) return std::nullopt;
+        return s.sign() * d1.sign();
+    }
+
+private:
+    // num(i, side) and den(i) as quick_compare takes them (its derivation): exact, with
+    // room for every term.
+    GrowingSum<16> num_sum(int i, int side) const {
+        GrowingSum<16> s;
+        s.add(side ? h_[i] : -h_[i]);
+        for (int j = 0; j < 3; ++j) {
+            s.add_product(-a_[i][j], o_[j]);
+            s.add_product(a_[i][j], c_[j]);
+        }
+        s.compress();
+        return s;
+    }
+    GrowingSum<8> den_sum(int i) const {
+        GrowingSum<8> s;
+        for (int j = 0; j < 3; ++j) s.add_product(a_[i][j], d_[j]);
+        s.compress();
+        return s;
+    }
+    double o_[3], c_[3], d_[3], h_[3];
+    double a_[3][3];  // a_[i][j] = axes(j, i): axis i's components
+    int shift_;
+    bool safe_;
+};
+
 // The slab frame of an oriented box: o'_i = (o - c)·a_i, d'_i = d·a_i, slab
 // [-h_i, h_i]; value (±h_i - o'_i)/d'_i.
 template <class T> class ObbFrame {
@@ -206,18 +332,20 @@ public:
         const double h = b_->half_extent[i];
         return divide_signed(Interval<double>(side ? h : -h) - op_[i], dp_[i], sden_[i]);
     }
-    template <class E> E num(int i, int side) const {
-        const double h = b_->half_extent[i];
-        return E(side ? h : -h) - oprime<E>(i);
-    }
-    template <class E> E den(int i) const {
-        E s(0.0);
-        for (int j = 0; j < 3; ++j) s = s + E(double(b_->axes(j, i))) * E(double(r_->direction[j]));
-        return s;
-    }
-    bool safe() const {
-        return expansion_safe(r_->origin) && expansion_safe(r_->direction) && expansion_safe(b_->center) &&
-               expansion_safe(b_->axes) && expansion_safe(b_->half_extent);
+    // The exact side (ObbQuotients): the slab values on the given input, and at a scale
+    // the Expansion type and quick_compare are exact at where the given one is not
+    // (exact_compare's comparisons use it when safe() is false). Each made on first use,
+    // once per frame (a query may compare several times).
+    template <class E> E num(int i, int side) const { return given().template num<E>(i, side); }
+    template <class E> E den(int i) const { return given().template den<E>(i); }
+    bool safe() const { return given().safe(); }
+    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const { return given().quick_compare(a, b); }
+    const std::optional<ObbQuotients>& scaled() const {
+        if (!scaled_made_) {
+            scaled_made_ = true;
+            scaled_ = ObbQuotients::rescaled(*r_, *b_);
+        }
+        return scaled_;
     }
     // t faithfully rounded to T, as the straight-line path rounds it (so that the two
     // paths answer alike bit for bit): for float by obb_nearest_float first, then by
@@ -236,7 +364,7 @@ private:
         const double h = b_->half_extent[i];
         const std::optional<bool> in = with_exact(safe(), [&](auto tag) -> std::optional<bool> {
             using E = typename decltype(tag)::type;
-            const E o = oprime<E>(i), eh(h);
+            const E o = given().template oprime<E>(i), eh(h);
             const E above = eh - o, below = eh + o;
             if (any_overflowed(above, below)) return std::nullopt;
             return above.sign() >= 0 && below.sign() >= 0;
@@ -248,19 +376,19 @@ private:
         if (!(e <= std::numeric_limits<double>::max())) return {-inf, inf};
         return {step_down(v - e), step_up(v + e)};
     }
-    template <class E> E oprime(int i) const {
-        E s(0.0);
-        for (int j = 0; j < 3; ++j)
-            s = s + E(double(b_->axes(j, i))) * (E(double(r_->origin[j])) - E(double(b_->center[j])));
-        return s;
-    }
     int exact_den_sign(int i) const {
         return detail::exact_sign(safe(), [&](auto tag) { return den<typename decltype(tag)::type>(i); });
+    }
+    const ObbQuotients& given() const {
+        if (!given_) given_.emplace(*r_, *b_);
+        return *given_;
     }
     const Ray<T>* r_;
     const Obb<T>* b_;
     Interval<double> op_[3], dp_[3];
     int sden_[3];
+    mutable std::optional<ObbQuotients> given_, scaled_;
+    mutable bool scaled_made_ = false;
 };
 
 static_assert(SlabFrame<ObbFrame<float>, float> && SlabFrame<ObbFrame<double>, double>);

@@ -189,8 +189,23 @@ template <ExactQuotients Source> int exact_compare(const Source& f, const SlabRe
     return *s;
 }
 
-// num/den faithfully rounded to T, in exact arithmetic.
+// num/den faithfully rounded to T, in exact arithmetic. For double, a source that is
+// not safe() but offers scaled() (exact_compare) rounds there, where the Expansion type
+// is exact: f' faithful for 2^shift·q and a normal double (neither clamped to ±max nor
+// flushed to 0) lies with 2^shift·q between two neighbours, so f'·2^-shift, where it
+// is exact, lies with q between two doubles no farther apart than its own neighbours
+// (the same ones, or in the subnormal range coarser): faithful for q.
 template <class T, ExactQuotients Source> T exact_faithful(const Source& f, int axis, int side) {
+    if constexpr (std::is_same_v<T, double> && requires { f.scaled(); })
+        if (!f.safe())
+            if (const auto& s = f.scaled()) {
+                const double scaled = exact_faithful<double>(*s, axis, side);
+                const double a = std::abs(scaled);
+                double q;
+                if (a >= std::numeric_limits<double>::min() && a < std::numeric_limits<double>::max() &&
+                    scale_exactly(scaled, -s->shift(), q))
+                    return q;
+            }
     const std::optional<T> q = with_exact(f.safe(), [&](auto tag) -> std::optional<T> {
         using E = typename decltype(tag)::type;
         const E n = f.template num<E>(axis, side), d = f.template den<E>(axis);

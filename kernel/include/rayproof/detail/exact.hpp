@@ -596,6 +596,11 @@ template <class Derived> bool expansion_safe(const Eigen::DenseBase<Derived>& m)
     return true;
 }
 
+// A range of shifts (powers of two), empty when lo > hi.
+struct ShiftRange {
+    int lo, hi;
+};
+
 // Rescaling into the safe range. A predicate whose inputs fall in groups that scale
 // alike (every position by 2^sp, every direction by 2^sd, say) has a sign that
 // changes by a positive factor only, so it can be decided on the rescaled inputs. The
@@ -616,6 +621,14 @@ struct ExponentSpan {
         if (hi < lo) return 0;
         if (hi - lo > 199) return std::nullopt;
         return 99 - hi;
+    }
+    // Every shift s that puts the group in [2^-100, 2^100] (2^(k + s) >= 2^-100 and
+    // 2^(k + s + 1) <= 2^100 for every exponent k): [-100 - lo, 99 - hi], empty (lo > hi)
+    // when the group is too wide; for a group of zeros only, every shift that keeps a
+    // value safe for times_pow2 (|s| <= 1173).
+    ShiftRange shift_range() const noexcept {
+        if (hi < lo) return {-1173, 1173};
+        return {-100 - lo, 99 - hi};
     }
 };
 
