@@ -270,13 +270,14 @@ TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
 // which also rounds there for double), decide as its bare quotients in expansions or
 // BigDyadic: on every valid case of every generator, every pair among the slab values
 // of the non-parallel axes and the constants t_min, t_max, 0, the slab values' rounded
-// estimates and their neighbours has the same exact_compare sign both ways, and each
+// estimates and their neighbours has the same exact_compare sign both ways (and
+// quick_compare's where it answers, on input not safe too, its checked route), and each
 // slab value's exact_faithful t is a faithful rounding by the bare comparisons (the
 // exact value, or strictly between t and its neighbour on the side the sign gives).
 // The rescaled input must lie in the safe range, and both routes must be exercised.
 TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
     using T = TypeParam;
-    int scaled_cases = 0, quick = 0;
+    int scaled_cases = 0, quick = 0, checked_cases = 0;
     on_valid_cases<T, Obb<T>>("the comparisons", [&](const auto& c, const std::string& where, bool& answered) {
         answered = true;
         const detail::ObbFrame<T> f(c.ray, c.shape);
@@ -303,13 +304,20 @@ TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
                         refs.push_back({-1, 0, v});
             }
         }
+        bool checked = false;
         for (const auto& a : refs)
             for (const auto& b : refs) {
                 if (a.axis < 0 && b.axis < 0) continue;
                 ASSERT_EQ(detail::exact_compare(f, a, b), detail::exact_compare(bare, a, b))
                     << what << "\n  refs (" << a.axis << ", " << a.side << ", " << a.c << ") and (" << b.axis << ", "
                     << b.side << ", " << b.c << ")";
+                if (std::isinf(a.c) || std::isinf(b.c)) continue;  // exact_compare's own, before quick_compare
+                if (const std::optional<int> q = f.quick_compare(a, b)) {
+                    ASSERT_EQ(*q, detail::exact_compare(bare, a, b)) << what << ": quick_compare";
+                    checked = checked || !f.safe();
+                }
             }
+        checked_cases += checked;
         for (const auto& [i, side] : values) {
             const T t = detail::exact_faithful<T>(f, i, side);
             const detail::SlabRef v{i, side, 0};
@@ -325,6 +333,7 @@ TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
     EXPECT_GT(quick, 1000) << "the quick comparisons should be exercised";
     if constexpr (std::is_same_v<T, double>) {  // every float is safe
         EXPECT_GT(scaled_cases, 100) << "the scaled comparisons should be exercised";
+        EXPECT_GT(checked_cases, 100) << "the checked quick comparisons (input not safe) should decide";
     }
 }
 

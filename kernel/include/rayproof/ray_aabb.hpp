@@ -320,6 +320,7 @@ public:
     template <class E> E num(int i, int side) const { return E(double(plane(i, side))) - E(double(o_[i])); }
     template <class E> E den(int i) const { return E(double(d_[i])); }
     std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const {
+        if (!safe()) return std::nullopt;  // (compare_slab_values' range)
         return slab_quick_compare(a, b, [&](int i, int side) {
             return std::array<double, 3>{double(plane(i, side)), double(o_[i]), double(d_[i])};
         });

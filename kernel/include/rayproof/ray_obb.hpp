@@ -205,35 +205,48 @@ public:
         for (int j = 0; j < 3; ++j) s = s + E(a_[i][j]) * (E(o_[j]) - E(c_[j]));
         return s;
     }
-    // exact_compare's sign without an expansion type, for safe() input (every value 0
-    // or a multiple of 2^-152 below 2^100; every float a multiple of 2^-149 below
-    // 2^128): num = ±h_i - Σ_j a_ji o_j + Σ_j a_ji c_j and den = Σ_j a_ji d_j as sums of
-    // error-free products (13 and 6 doubles: each product of two inputs is two doubles
-    // by two_prod, its error term a multiple of 2^-304), compressed; then
-    // sign(n1 d2 - n2 d1)·sign(d1 d2) from their components' products (each a multiple
-    // of 2^-608, far above the 2^-916 two_prod needs, and below 2^410), or
-    // sign(n - c·den)·sign(den) for a constant c, whose products are checked. None
-    // where a capacity does not suffice or a product by c may be inexact.
+    // exact_compare's sign without an expansion type. num = ±h_i - Σ_j a_ji o_j +
+    // Σ_j a_ji c_j and den = Σ_j a_ji d_j as sums of error-free products (13 and 6
+    // doubles), compressed; then sign(n1 d2 - n2 d1)·sign(d1 d2) from their components'
+    // products, or sign(n - c·den)·sign(den) for a constant c.
+    // For safe() input (every value 0 or a multiple of 2^-152 below 2^100; every float a
+    // multiple of 2^-149 below 2^128) every product of two inputs is exact by two_prod
+    // (its error term a multiple of 2^-304), and so is every product of the sums'
+    // components (multiples of 2^-608, far above the 2^-916 two_prod needs, and below
+    // 2^410). For other input every product is checked instead (exact_product,
+    // exact_products; the half-extent below 2^1000), and where the sums' products are not
+    // exact as they stand, the numerators are scaled alike by 2^kn and the denominators by
+    // 2^kd (exactly, GrowingSum::scale) to bring their largest components near 1, which
+    // multiplies n1 d2 - n2 d1 by 2^(kn + kd): the directions' and the positions'
+    // binades then need not fit one range together. The products by c are checked in
+    // both cases. None where a check or a capacity fails.
     std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const {
         if (a.axis < 0) {
             const std::optional<int> s = quick_compare(b, a);
             if (!s) return std::nullopt;
             return -*s;
         }
-        const GrowingSum<16> n1 = num_sum(a.axis, a.side);
-        const GrowingSum<8> d1 = den_sum(a.axis);
+        GrowingSum<16> n1 = num_sum(a.axis, a.side);
+        GrowingSum<8> d1 = den_sum(a.axis);
+        if (n1.full || d1.full) return std::nullopt;
         if (b.axis >= 0) {
-            const GrowingSum<16> n2 = num_sum(b.axis, b.side);
-            const GrowingSum<8> d2 = den_sum(b.axis);
+            GrowingSum<16> n2 = num_sum(b.axis, b.side);
+            GrowingSum<8> d2 = den_sum(b.axis);
+            if (n2.full || d2.full) return std::nullopt;
+            if (!safe_ && !(exact_products(n1, d2) && exact_products(n2, d1))) {
+                const int kn = -std::max(n1.top(), n2.top()), kd = -std::max(d1.top(), d2.top());
+                if (!(n1.scale(kn) && n2.scale(kn) && d1.scale(kd) && d2.scale(kd) && exact_products(n1, d2) &&
+                      exact_products(n2, d1)))
+                    return std::nullopt;
+            }
             const std::optional<int> s = sign_cross_difference<32>(n1, d2, n2, d1);
             if (!s) return std::nullopt;
             return *s * d1.sign() * d2.sign();
         }
         GrowingSum<32> s;
         for (int k = 0; k < n1.n; ++k) s.add(n1.e[k]);
-        for (int k = 0; k < d1.n && b.c != 0; ++k) {  // (a product that underflows to 0 is not exact)
-            const double p = std::abs(b.c * d1.e[k]);
-            if (!(p >= exact_impl::kMinExactProduct && p <= 0x1p1000)) return std::nullopt;
+        for (int k = 0; k < d1.n; ++k) {
+            if (!exact_product(b.c, d1.e[k])) return std::nullopt;
             s.add_product(-b.c, d1.e[k]);
         }
         if (s.full) return std::nullopt;
@@ -242,20 +255,34 @@ public:
 
 private:
     // num(i, side) and den(i) as quick_compare takes them (its derivation): exact, with
-    // room for every term.
+    // room for every term; `full` where a checked product is not exact.
     GrowingSum<16> num_sum(int i, int side) const {
         GrowingSum<16> s;
+        if (!safe_ && std::abs(h_[i]) >= 0x1p1000) {
+            s.full = true;
+            return s;
+        }
         s.add(side ? h_[i] : -h_[i]);
         for (int j = 0; j < 3; ++j) {
-            s.add_product(-a_[i][j], o_[j]);
-            s.add_product(a_[i][j], c_[j]);
+            if (safe_) {
+                s.add_product(-a_[i][j], o_[j]);
+                s.add_product(a_[i][j], c_[j]);
+            } else {
+                s.add_product_checked(-a_[i][j], o_[j]);
+                s.add_product_checked(a_[i][j], c_[j]);
+            }
         }
         s.compress();
         return s;
     }
     GrowingSum<8> den_sum(int i) const {
         GrowingSum<8> s;
-        for (int j = 0; j < 3; ++j) s.add_product(a_[i][j], d_[j]);
+        for (int j = 0; j < 3; ++j) {
+            if (safe_)
+                s.add_product(a_[i][j], d_[j]);
+            else
+                s.add_product_checked(a_[i][j], d_[j]);
+        }
         s.compress();
         return s;
     }

@@ -167,11 +167,10 @@ template <ExactQuotients Source> int exact_compare(const Source& f, const SlabRe
             }
     }
     // A source may also offer quick_compare(a, b): the same sign without an expansion type
-    // (the Aabb's slab values, compare_slab_values), for input safe for expansions, or
-    // none where it cannot decide it exactly.
+    // (the Aabb's slab values, compare_slab_values; the Obb's, ObbQuotients), or none
+    // where it cannot decide it exactly (the Aabb's for input not safe for expansions).
     if constexpr (requires { f.quick_compare(a, b); })
-        if (f.safe())
-            if (const std::optional<int> q = f.quick_compare(a, b)) return *q;
+        if (const std::optional<int> q = f.quick_compare(a, b)) return *q;
     const std::optional<int> s = with_exact(f.safe(), [&](auto tag) -> std::optional<int> {
         using E = typename decltype(tag)::type;
         if (a.axis < 0) {

@@ -781,6 +781,16 @@ template <class E, class T> int compare_quotient(const E& num, const E& den, T t
     return 0;  // an overflowed input: meaningless
 }
 
+// Whether two_prod(x, y) is exact and x·y far below overflow, for x and y of any range:
+// x·y is a multiple of 2^(kx + ky), kx and ky the exponents of their last bits, so its
+// rounding error is representable when kx + ky >= -1074 (eft.hpp); and |x·y| < 2^1000
+// when their binary exponents add to at most 998, which leaves room for sums of up to
+// 2^23 such products.
+inline bool exact_product(double x, double y) {
+    if (x == 0 || y == 0) return true;
+    return last_bit_exponent(x) + last_bit_exponent(y) >= -1074 && binary_exponent(x) + binary_exponent(y) <= 998;
+}
+
 // A nonoverlapping expansion of at most N doubles, components by increasing magnitude,
 // grown one term at a time with zero elimination (GROW-EXPANSION, Shewchuk 1997,
 // Theorem 10): exact while no partial sum overflows and N components suffice; a term
@@ -813,7 +823,33 @@ template <int N> struct GrowingSum {
         add(p.lo);
         add(p.hi);
     }
+    // Checked growth, for input of any range: x·y where two_prod is exact for it
+    // (exact_product), else the value is marked incomplete (`full`).
+    void add_product_checked(double x, double y) {
+        if (exact_product(x, y))
+            add_product(x, y);
+        else
+            full = true;
+    }
     int sign() const { return n == 0 ? 0 : (e[n - 1] > 0 ? 1 : -1); }
+    // The smallest last-bit exponent of the components (every component, and every sum
+    // of them, is a multiple of 2^grain()) and the binary exponent of the largest (every
+    // component is below 2^(top() + 1)); for no components, 2000 and -2000.
+    int grain() const {
+        int g = 2000;
+        for (int j = 0; j < n; ++j) g = std::min(g, last_bit_exponent(e[j]));
+        return g;
+    }
+    int top() const { return n == 0 ? -2000 : binary_exponent(e[n - 1]); }
+    // Every component times 2^k where each product is exact (no bit falls below 2^-1074,
+    // none reaches 2^1024): the value times 2^k, still nonoverlapping; false (nothing
+    // changed) otherwise.
+    bool scale(int k) {
+        if (n == 0) return true;
+        if (grain() + k < -1074 || top() + k > 1023) return false;
+        for (int j = 0; j < n; ++j) e[j] = times_pow2(e[j], k);
+        return true;
+    }
     double estimate() const {  // the components summed from the smallest: within a few ulps
         double s = 0;
         for (int j = 0; j < n; ++j) s += e[j];
@@ -848,10 +884,17 @@ template <int N> struct GrowingSum {
     }
 };
 
+// Whether every product of a component of x by one of y (GrowingSum) is exact by
+// two_prod and below 2^1000 (exact_product's argument, from the sums' grain and top).
+template <class X, class Y> bool exact_products(const X& x, const Y& y) {
+    if (x.n == 0 || y.n == 0) return true;
+    return x.grain() + y.grain() >= -1074 && x.top() + y.top() <= 998;
+}
+
 // sign(x1·y1 - x2·y2) for exact sums (GrowingSum) whose every product of a component of
-// an x by one of the y beside it two_prod takes exactly (the caller's ranges say so:
-// each at least 2^-916 in magnitude where nonzero, and far from overflow): the products
-// grown into one sum of at most N components; none where N does not suffice.
+// an x by one of the y beside it two_prod takes exactly (the caller's ranges say so, or
+// exact_products): the products grown into one sum of at most N components; none where
+// N does not suffice.
 template <int N, class X, class Y>
 std::optional<int> sign_cross_difference(const X& x1, const Y& y1, const X& x2, const Y& y2) {
     GrowingSum<N> s;

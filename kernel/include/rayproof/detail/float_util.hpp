@@ -63,6 +63,16 @@ inline int binary_exponent(double x) noexcept {
     return (63 - std::countl_zero(b & ((std::uint64_t(1) << 52) - 1))) - 1074;
 }
 
+// The exponent k of the last nonzero bit of a finite nonzero double x (x = m·2^k, m an
+// odd integer), subnormals included: every multiple of x is a multiple of 2^k.
+inline int last_bit_exponent(double x) noexcept {
+    const auto b = std::bit_cast<std::uint64_t>(x) & ~(std::uint64_t(1) << 63);
+    const int e = int(b >> 52);
+    const std::uint64_t m = b & ((std::uint64_t(1) << 52) - 1);
+    if (e == 0) return std::countr_zero(m) - 1074;
+    return std::countr_zero(m | (std::uint64_t(1) << 52)) + e - 1075;
+}
+
 // 2^j for -1022 <= j <= 1023, from its bits.
 inline double pow2(int j) noexcept { return std::bit_cast<double>(std::uint64_t(j + 1023) << 52); }
 
