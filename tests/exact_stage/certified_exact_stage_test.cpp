@@ -264,17 +264,19 @@ TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
     }
 }
 
-// The oriented box's exact comparisons and exact rounding through its frame, which
-// compares without an expansion type (ObbQuotients::quick_compare: sums of error-free
-// products) and, where the input is not safe, at a safer scale (ObbQuotients::rescaled,
-// which also rounds there for double), decide as its bare quotients in expansions or
-// BigDyadic: on every valid case of every generator, every pair among the slab values
-// of the non-parallel axes and the constants t_min, t_max, 0, the slab values' rounded
-// estimates and their neighbours has the same exact_compare sign both ways (and
-// quick_compare's where it answers, on input not safe too, its checked route), and each
-// slab value's exact_faithful t is a faithful rounding by the bare comparisons (the
-// exact value, or strictly between t and its neighbour on the side the sign gives).
-// The rescaled input must lie in the safe range, and both routes must be exercised.
+// The oriented box's exact decisions through its frame, which takes them without an
+// expansion type (ObbQuotients: quick_compare, quick_faithful and the signs of num and
+// den, from sums of error-free products) and, where the input is not safe, at a safer
+// scale (ObbQuotients::rescaled, which also rounds there for double), decide as its
+// bare quotients in expansions or BigDyadic, on every valid case of every generator:
+// the sign of each d'_i and whether the origin lies in each slab; every pair among the
+// slab values of the non-parallel axes and the constants t_min, t_max, 0, the slab
+// values' rounded estimates and their neighbours has the same exact_compare sign both
+// ways (and quick_compare's where it answers, on input not safe too, its checked
+// route); and each slab value's exact_faithful t is a faithful rounding by the bare
+// comparisons (the exact value, or strictly between t and its neighbour on the side
+// the sign gives). The rescaled input must lie in the safe range, and both routes must
+// be exercised.
 TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
     using T = TypeParam;
     int scaled_cases = 0, quick = 0, checked_cases = 0;
@@ -288,6 +290,16 @@ TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
             ASSERT_TRUE(f.scaled()->safe()) << what;
         }
         quick += f.safe();
+        for (int i = 0; i < 3; ++i) {  // the exact signs of den and num, as the bare quotients give them
+            const auto bare_sign = [&](auto value) {
+                return detail::exact_sign(f.safe(), [&](auto tag) { return value(tag); });
+            };
+            const int den = bare_sign([&](auto tag) { return f.template den<typename decltype(tag)::type>(i); });
+            ASSERT_EQ(f.exact_den_sign(i), den) << what << ": the sign of d'_" << i;
+            const int above = bare_sign([&](auto tag) { return f.template num<typename decltype(tag)::type>(i, 1); }),
+                      below = bare_sign([&](auto tag) { return f.template num<typename decltype(tag)::type>(i, 0); });
+            ASSERT_EQ(f.inside_parallel_exact(i), above >= 0 && below <= 0) << what << ": the origin in slab " << i;
+        }
         std::vector<detail::SlabRef> refs{{-1, 0, c.ray.t_min}, {-1, 0, c.ray.t_max}, {-1, 0, 0.0}};
         std::vector<std::pair<int, int>> values;
         for (int i = 0; i < 3; ++i) {
@@ -334,6 +346,72 @@ TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
     if constexpr (std::is_same_v<T, double>) {  // every float is safe
         EXPECT_GT(scaled_cases, 100) << "the scaled comparisons should be exercised";
         EXPECT_GT(checked_cases, 100) << "the checked quick comparisons (input not safe) should decide";
+    }
+}
+
+// The plane's exact decisions through its crossing, which takes them from fixed-size
+// sums (AffineQuotients: quick_compare, the signs of num and den) and, where the input
+// is not safe, at a safer scale (AffineQuotients::rescaled, which also rounds t there
+// for double), decide as its bare quotient in expansions or BigDyadic: on every valid
+// case of every generator, the crossing against t_min, t_max, 0, its rounded estimate
+// and their neighbours has the same exact_compare sign both ways (and quick_compare's
+// where it answers); the signs of den and num (the ray in the plane) are the bare ones;
+// and exact_faithful's t is a faithful rounding by the bare comparisons. Both the
+// rescaled and the checked routes must be exercised.
+TYPED_TEST(CertifiedExactStage, PlaneCrossingDecidesAsTheBareQuotient) {
+    using T = TypeParam;
+    int scaled_cases = 0, quick = 0, checked_cases = 0;
+    on_valid_cases<T, Plane<T>>("the crossing", [&](const auto& c, const std::string& where, bool& answered) {
+        answered = true;
+        const detail::PlaneCrossing<T> x(c.ray, c.shape);
+        const detail::Unscaled<detail::PlaneCrossing<T>> bare{x};
+        const std::string what = where + ": " + ::testing::PrintToString(c.ray) + " vs " + ::testing::PrintToString(c.shape);
+        if (!x.safe() && x.scaled()) {
+            ++scaled_cases;
+            ASSERT_TRUE(x.scaled()->safe()) << what;
+        }
+        quick += x.safe();
+        const auto bare_sign = [&](auto value) {
+            return detail::exact_sign(x.safe(), [&](auto tag) { return value(tag); });
+        };
+        const int den = bare_sign([&](auto tag) { return x.template den<typename decltype(tag)::type>(); });
+        ASSERT_EQ(x.den_sign_exact(), den) << what << ": the sign of n·d";
+        if (den == 0) {
+            const int num = bare_sign([&](auto tag) { return x.template num<typename decltype(tag)::type>(); });
+            ASSERT_EQ(x.in_plane_exact(), num == 0) << what << ": the ray in the plane";
+            return;
+        }
+        const detail::SlabRef t{0, 0, 0};
+        std::vector<detail::SlabRef> refs{{-1, 0, c.ray.t_min}, {-1, 0, c.ray.t_max}, {-1, 0, 0.0}};
+        const double n = c.shape.normal.template cast<double>().dot(c.ray.origin.template cast<double>()),
+                     d = c.shape.normal.template cast<double>().dot(c.ray.direction.template cast<double>()),
+                     est = (double(c.shape.offset) - n) / d;
+        if (std::isfinite(est))
+            for (const double v : {est, std::nextafter(est, -HUGE_VAL), std::nextafter(est, HUGE_VAL)}) refs.push_back({-1, 0, v});
+        bool checked = false;
+        for (const auto& r : refs) {
+            const int s = detail::exact_compare(bare, t, r);
+            ASSERT_EQ(detail::exact_compare(x, t, r), s) << what << "\n  against " << r.c;
+            ASSERT_EQ(detail::exact_compare(x, r, t), -s) << what << "\n  against " << r.c;
+            if (std::isinf(r.c)) continue;  // exact_compare's own, before quick_compare
+            if (const std::optional<int> q = x.quick_compare(t, r)) {
+                ASSERT_EQ(*q, s) << what << ": quick_compare against " << r.c;
+                checked = checked || !x.safe();
+            }
+        }
+        checked_cases += checked;
+        const T f = detail::exact_faithful<T>(x, 0, 0);
+        const int s = detail::exact_compare(bare, t, {-1, 0, double(f)});  // sign(t - f)
+        if (s == 0) return;
+        const T next = s > 0 ? std::nextafter(f, std::numeric_limits<T>::infinity())
+                             : std::nextafter(f, -std::numeric_limits<T>::infinity());
+        if (!std::isfinite(next)) return;  // beyond ±max: f = ±max encloses it
+        ASSERT_EQ(detail::exact_compare(bare, t, {-1, 0, double(next)}), -s) << what << "\n  t rounded to " << f << ": not faithful";
+    });
+    EXPECT_GT(quick, 1000) << "the quick decisions should be exercised";
+    if constexpr (std::is_same_v<T, double>) {  // every float is safe
+        EXPECT_GT(scaled_cases, 100) << "the scaled decisions should be exercised";
+        EXPECT_GT(checked_cases, 20) << "the checked quick comparisons (input not safe) should decide";
     }
 }
 

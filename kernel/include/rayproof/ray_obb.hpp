@@ -39,12 +39,17 @@
 //            ObbFrame), then the slab values in interval arithmetic; these intervals
 //            decide every comparison they separate; the rest, and the sign of d'_i, are
 //            decided exactly: num = ±h_i - Σ_j a_ji (o_j - c_j) and den = Σ_j a_ji d_j
-//            are degree 2, comparisons of two slab values degree 4 (detail/exact.hpp).
+//            are degree 2, comparisons of two slab values degree 4 (detail/exact.hpp),
+//            each taken first from fixed-size sums of error-free products
+//            (detail/affine_quotients.hpp, shared with the plane), on the input rescaled
+//            by powers of two where it is outside the Expansion type's range.
 //            t is pinned as on the straight-line path first (so the two paths answer
 //            alike bit for bit), next rounded from the interval when it lies strictly
-//            between the neighbours of its midpoint, else exactly.
+//            between the neighbours of its midpoint, else exactly (from the same sums
+//            first).
 #pragma once
 
+#include <rayproof/detail/affine_quotients.hpp>
 #include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/eft.hpp>
@@ -139,158 +144,20 @@ template <class T> RAYPROOF_ALWAYS_INLINE Pinned<T> obb_pinned_value(const Ray<T
     return {faithful_to<T>(x.c), x.pinned};
 }
 
-// The slab values (±h_i - o'_i)/d'_i as exact quotients (detail/certified.hpp,
-// ExactQuotients) over the input in double: as given (widened), or rescaled into the
-// range where the Expansion type and quick_compare are exact (rescaled()).
-// Rescaling: the positions (o, c) by 2^sp, the axes by 2^sa, the half-extents by
-// 2^(sp + sa) and the direction by 2^sd (each exact: every scaled value is a normal
-// double) multiply every num by 2^(sp + sa), every den by 2^(sa + sd) and every
-// quotient by 2^(sp - sd) = 2^shift(), so that the sign of a difference of two of them,
-// or of one and a constant scaled alike, is unchanged.
-class ObbQuotients {
-public:
-    template <class T> ObbQuotients(const Ray<T>& r, const Obb<T>& b) : shift_(0) {
-        safe_ = true;
-        for (int j = 0; j < 3; ++j) {
-            o_[j] = double(r.origin[j]);
-            c_[j] = double(b.center[j]);
-            d_[j] = double(r.direction[j]);
-            h_[j] = double(b.half_extent[j]);
-            for (int i = 0; i < 3; ++i) a_[i][j] = double(b.axes(j, i));
-            safe_ = safe_ && expansion_safe(r.origin[j]) && expansion_safe(r.direction[j]) &&
-                    expansion_safe(b.center[j]) && expansion_safe(b.half_extent[j]) && expansion_safe(b.axes(j, 0)) &&
-                    expansion_safe(b.axes(j, 1)) && expansion_safe(b.axes(j, 2));
-        }
+// The box's slab values as affine quotients (detail/affine_quotients.hpp): rows a_i the
+// axes, c the centre, h_i the half-extents.
+template <class T> AffineValues<3> obb_values(const Ray<T>& r, const Obb<T>& b) {
+    AffineValues<3> v;
+    for (int j = 0; j < 3; ++j) {
+        v.o[j] = double(r.origin[j]);
+        v.c[j] = double(b.center[j]);
+        v.d[j] = double(r.direction[j]);
+        v.h[j] = double(b.half_extent[j]);
+        for (int i = 0; i < 3; ++i) v.a[i][j] = double(b.axes(j, i));
     }
-    // The input rescaled as above with every scaled value in [2^-100, 2^100] or 0, where
-    // such sp, sa, sd exist: each group's shifts form a range (ExponentSpan), and the
-    // half-extents' range bounds sp + sa; none where a range is empty.
-    template <class T> static std::optional<ObbQuotients> rescaled(const Ray<T>& r, const Obb<T>& b) {
-        ExponentSpan positions, axes, halves, directions;
-        for (int j = 0; j < 3; ++j) {
-            positions.add(double(r.origin[j]));
-            positions.add(double(b.center[j]));
-            halves.add(double(b.half_extent[j]));
-            directions.add(double(r.direction[j]));
-            for (int i = 0; i < 3; ++i) axes.add(double(b.axes(j, i)));
-        }
-        const std::optional<int> sd = directions.safe_shift();
-        const ShiftRange p = positions.shift_range(), a = axes.shift_range(), h = halves.shift_range();
-        // sp + sa in [p.lo + a.lo, p.hi + a.hi] ∩ [h.lo, h.hi]; then sp and sa within their own
-        const int lo = std::max(p.lo + a.lo, h.lo), hi = std::min(p.hi + a.hi, h.hi);
-        if (!sd || p.lo > p.hi || a.lo > a.hi || lo > hi) return std::nullopt;
-        const int sum = std::clamp(0, lo, hi), sp = std::max(p.lo, sum - a.hi), sa = sum - sp;
-        ObbQuotients q(r, b);
-        for (int j = 0; j < 3; ++j) {
-            q.o_[j] = times_pow2(q.o_[j], sp);
-            q.c_[j] = times_pow2(q.c_[j], sp);
-            q.d_[j] = times_pow2(q.d_[j], *sd);
-            q.h_[j] = times_pow2(q.h_[j], sum);
-            for (int i = 0; i < 3; ++i) q.a_[i][j] = times_pow2(q.a_[i][j], sa);
-        }
-        q.shift_ = sp - *sd;
-        q.safe_ = true;
-        return q;
-    }
-    int shift() const { return shift_; }
-    bool safe() const { return safe_; }
-    template <class E> E num(int i, int side) const { return E(side ? h_[i] : -h_[i]) - oprime<E>(i); }
-    template <class E> E den(int i) const {
-        E s(0.0);
-        for (int j = 0; j < 3; ++j) s = s + E(a_[i][j]) * E(d_[j]);
-        return s;
-    }
-    template <class E> E oprime(int i) const {
-        E s(0.0);
-        for (int j = 0; j < 3; ++j) s = s + E(a_[i][j]) * (E(o_[j]) - E(c_[j]));
-        return s;
-    }
-    // exact_compare's sign without an expansion type. num = ±h_i - Σ_j a_ji o_j +
-    // Σ_j a_ji c_j and den = Σ_j a_ji d_j as sums of error-free products (13 and 6
-    // doubles), compressed; then sign(n1 d2 - n2 d1)·sign(d1 d2) from their components'
-    // products, or sign(n - c·den)·sign(den) for a constant c.
-    // For safe() input (every value 0 or a multiple of 2^-152 below 2^100; every float a
-    // multiple of 2^-149 below 2^128) every product of two inputs is exact by two_prod
-    // (its error term a multiple of 2^-304), and so is every product of the sums'
-    // components (multiples of 2^-608, far above the 2^-916 two_prod needs, and below
-    // 2^410). For other input every product is checked instead (exact_product,
-    // exact_products; the half-extent below 2^1000), and where the sums' products are not
-    // exact as they stand, the numerators are scaled alike by 2^kn and the denominators by
-    // 2^kd (exactly, GrowingSum::scale) to bring their largest components near 1, which
-    // multiplies n1 d2 - n2 d1 by 2^(kn + kd): the directions' and the positions'
-    // binades then need not fit one range together. The products by c are checked in
-    // both cases. None where a check or a capacity fails.
-    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const {
-        if (a.axis < 0) {
-            const std::optional<int> s = quick_compare(b, a);
-            if (!s) return std::nullopt;
-            return -*s;
-        }
-        GrowingSum<16> n1 = num_sum(a.axis, a.side);
-        GrowingSum<8> d1 = den_sum(a.axis);
-        if (n1.full || d1.full) return std::nullopt;
-        if (b.axis >= 0) {
-            GrowingSum<16> n2 = num_sum(b.axis, b.side);
-            GrowingSum<8> d2 = den_sum(b.axis);
-            if (n2.full || d2.full) return std::nullopt;
-            if (!safe_ && !(exact_products(n1, d2) && exact_products(n2, d1))) {
-                const int kn = -std::max(n1.top(), n2.top()), kd = -std::max(d1.top(), d2.top());
-                if (!(n1.scale(kn) && n2.scale(kn) && d1.scale(kd) && d2.scale(kd) && exact_products(n1, d2) &&
-                      exact_products(n2, d1)))
-                    return std::nullopt;
-            }
-            const std::optional<int> s = sign_cross_difference<32>(n1, d2, n2, d1);
-            if (!s) return std::nullopt;
-            return *s * d1.sign() * d2.sign();
-        }
-        GrowingSum<32> s;
-        for (int k = 0; k < n1.n; ++k) s.add(n1.e[k]);
-        for (int k = 0; k < d1.n; ++k) {
-            if (!exact_product(b.c, d1.e[k])) return std::nullopt;
-            s.add_product(-b.c, d1.e[k]);
-        }
-        if (s.full) return std::nullopt;
-        return s.sign() * d1.sign();
-    }
-
-private:
-    // num(i, side) and den(i) as quick_compare takes them (its derivation): exact, with
-    // room for every term; `full` where a checked product is not exact.
-    GrowingSum<16> num_sum(int i, int side) const {
-        GrowingSum<16> s;
-        if (!safe_ && std::abs(h_[i]) >= 0x1p1000) {
-            s.full = true;
-            return s;
-        }
-        s.add(side ? h_[i] : -h_[i]);
-        for (int j = 0; j < 3; ++j) {
-            if (safe_) {
-                s.add_product(-a_[i][j], o_[j]);
-                s.add_product(a_[i][j], c_[j]);
-            } else {
-                s.add_product_checked(-a_[i][j], o_[j]);
-                s.add_product_checked(a_[i][j], c_[j]);
-            }
-        }
-        s.compress();
-        return s;
-    }
-    GrowingSum<8> den_sum(int i) const {
-        GrowingSum<8> s;
-        for (int j = 0; j < 3; ++j) {
-            if (safe_)
-                s.add_product(a_[i][j], d_[j]);
-            else
-                s.add_product_checked(a_[i][j], d_[j]);
-        }
-        s.compress();
-        return s;
-    }
-    double o_[3], c_[3], d_[3], h_[3];
-    double a_[3][3];  // a_[i][j] = axes(j, i): axis i's components
-    int shift_;
-    bool safe_;
-};
+    return v;
+}
+using ObbQuotients = AffineQuotients<3>;
 
 // The slab frame of an oriented box: o'_i = (o - c)·a_i, d'_i = d·a_i, slab
 // [-h_i, h_i]; value (±h_i - o'_i)/d'_i.
@@ -367,10 +234,13 @@ public:
     template <class E> E den(int i) const { return given().template den<E>(i); }
     bool safe() const { return given().safe(); }
     std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const { return given().quick_compare(a, b); }
+    template <class U> std::optional<U> quick_faithful(int i, int side) const {
+        return given().template quick_faithful<U>(i, side);
+    }
     const std::optional<ObbQuotients>& scaled() const {
         if (!scaled_made_) {
             scaled_made_ = true;
-            scaled_ = ObbQuotients::rescaled(*r_, *b_);
+            scaled_ = ObbQuotients::rescaled(obb_values(*r_, *b_));
         }
         return scaled_;
     }
@@ -385,9 +255,19 @@ public:
         return exact_faithful<T>(*this, i, side);
     }
 
-private:
-    // Exact: the origin lies in the closed slab i.
+    // The same decisions without the interval filter (the exact stage alone): from the
+    // fixed-size sums where they take the input (ObbQuotients, given or rescaled: signs
+    // unchanged by the scaling), else in an exact type. The origin lies in the closed
+    // slab i when h - o' >= 0 and h + o' >= 0: num(i, 1) >= 0 >= num(i, 0).
     bool inside_parallel_exact(int i) const {
+        const auto inside = [&](const ObbQuotients& q) -> std::optional<bool> {
+            const std::optional<int> above = q.num_sign(i, 1), below = q.num_sign(i, 0);
+            if (!above || !below) return std::nullopt;
+            return *above >= 0 && *below <= 0;
+        };
+        if (const std::optional<bool> in = inside(given())) return *in;
+        if (const ObbQuotients* q = scaled_if_unsafe())
+            if (const std::optional<bool> in = inside(*q)) return *in;
         const double h = b_->half_extent[i];
         const std::optional<bool> in = with_exact(safe(), [&](auto tag) -> std::optional<bool> {
             using E = typename decltype(tag)::type;
@@ -398,18 +278,24 @@ private:
         });
         return *in;
     }
+    int exact_den_sign(int i) const {
+        if (const std::optional<int> s = given().den_sign(i)) return *s;
+        if (const ObbQuotients* q = scaled_if_unsafe())
+            if (const std::optional<int> s = q->den_sign(i)) return *s;
+        return detail::exact_sign(safe(), [&](auto tag) { return den<typename decltype(tag)::type>(i); });
+    }
+
+private:
     static Interval<double> around(double v, double e) {
         constexpr double inf = std::numeric_limits<double>::infinity();
         if (!(e <= std::numeric_limits<double>::max())) return {-inf, inf};
         return {step_down(v - e), step_up(v + e)};
     }
-    int exact_den_sign(int i) const {
-        return detail::exact_sign(safe(), [&](auto tag) { return den<typename decltype(tag)::type>(i); });
-    }
     const ObbQuotients& given() const {
-        if (!given_) given_.emplace(*r_, *b_);
+        if (!given_) given_.emplace(obb_values(*r_, *b_), std::is_same_v<T, float>);
         return *given_;
     }
+    const ObbQuotients* scaled_if_unsafe() const { return safe() || !scaled() ? nullptr : &*scaled(); }
     const Ray<T>* r_;
     const Obb<T>* b_;
     Interval<double> op_[3], dp_[3];

@@ -37,7 +37,10 @@
 //            the general path (plane_certified): intervals decide what they separate,
 //            otherwise exact arithmetic (detail/exact.hpp): sign(den) and sign(num) are
 //            degree 2, the position of t against t_min/t_max
-//            sign(num - t_min·den)·sign(den) degree 3; t is rounded as the straight-line
+//            sign(num - t_min·den)·sign(den) degree 3, each taken first from fixed-size
+//            sums of error-free products (detail/affine_quotients.hpp, shared with the
+//            oriented box), on the input rescaled by powers of two where it is outside
+//            the Expansion type's range; t is rounded as the straight-line
 //            path rounds it, by plane_nearest_float (float) and plane_pin first (so the two paths
 //            answer alike bit for bit), next from the interval when it lies strictly
 //            between the neighbours of its midpoint, else exactly. Before all this a
@@ -46,6 +49,7 @@
 //            query takes its misses.
 #pragma once
 
+#include <rayproof/detail/affine_quotients.hpp>
 #include <rayproof/detail/certified.hpp>
 #include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/exact.hpp>
@@ -328,6 +332,21 @@ RAYPROOF_ALWAYS_INLINE Pinned<float> plane_nearest_float(const PlaneEnclosure& e
 
 // The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures
 // and the exact values on demand.
+// The crossing as an affine quotient (detail/affine_quotients.hpp): one row, the
+// normal, c = 0 and h_0 = -offset, so that side 0's (-h_0 - n·o)/(n·d) is
+// (offset - n·o)/(n·d).
+template <class T> AffineValues<1> plane_values(const Ray<T>& r, const Plane<T>& p) {
+    AffineValues<1> v;
+    for (int j = 0; j < 3; ++j) {
+        v.o[j] = double(r.origin[j]);
+        v.c[j] = 0;
+        v.d[j] = double(r.direction[j]);
+        v.a[0][j] = double(p.normal[j]);
+    }
+    v.h[0] = -double(p.offset);
+    return v;
+}
+
 template <class T> class PlaneCrossing {
 public:
     PlaneCrossing(const Ray<T>& r, const Plane<T>& p) : r_(&r), p_(&p) {
@@ -349,11 +368,19 @@ public:
         if (s != 2) return s == 0;
         return in_plane_exact();
     }
-    // The same decisions without the interval filter (the exact stage alone).
+    // The same decisions without the interval filter (the exact stage alone): from the
+    // fixed-size sums where they take the input (AffineQuotients, given or rescaled:
+    // signs unchanged by the scaling), else in an exact type.
     int den_sign_exact() const {
+        if (const std::optional<int> s = given().den_sign(0)) return *s;
+        if (const AffineQuotients<1>* q = scaled_if_unsafe())
+            if (const std::optional<int> s = q->den_sign(0)) return *s;
         return exact_sign([&](auto tag) { return den<typename decltype(tag)::type>(); });
     }
     bool in_plane_exact() const {
+        if (const std::optional<int> s = given().num_sign(0, 0)) return *s == 0;
+        if (const AffineQuotients<1>* q = scaled_if_unsafe())
+            if (const std::optional<int> s = q->num_sign(0, 0)) return *s == 0;
         return exact_sign([&](auto tag) { return num<typename decltype(tag)::type>(); }) == 0;
     }
     Interval<double> enclose() const { return divide_signed(num_, den_, sden_); }
@@ -381,27 +408,37 @@ public:
     }
     // A source of exact quotients (detail/certified.hpp), for exact_compare and
     // exact_faithful (axis 0, side 0 only).
-    template <class E> E num(int = 0, int = 0) const {
-        E s(double(p_->offset));
-        for (int j = 0; j < 3; ++j) s = s - E(double(p_->normal[j])) * E(double(r_->origin[j]));
-        return s;
+    // The exact side, as the Obb's (ObbFrame): the quotient on the given input, and at a
+    // scale the Expansion type and quick_compare are exact at where the given one is
+    // not; each made on first use.
+    template <class E> E num(int = 0, int = 0) const { return given().template num<E>(0, 0); }
+    template <class E> E den(int = 0) const { return given().template den<E>(0); }
+    bool safe() const { return given().safe(); }
+    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const { return given().quick_compare(a, b); }
+    template <class U> std::optional<U> quick_faithful(int i, int side) const {
+        return given().template quick_faithful<U>(i, side);
     }
-    template <class E> E den(int = 0) const {
-        E s(0.0);
-        for (int j = 0; j < 3; ++j) s = s + E(double(p_->normal[j])) * E(double(r_->direction[j]));
-        return s;
-    }
-    bool safe() const {
-        return expansion_safe(r_->origin) && expansion_safe(r_->direction) && expansion_safe(p_->normal) &&
-               expansion_safe(p_->offset);
+    const std::optional<AffineQuotients<1>>& scaled() const {
+        if (!scaled_made_) {
+            scaled_made_ = true;
+            scaled_ = AffineQuotients<1>::rescaled(plane_values(*r_, *p_));
+        }
+        return scaled_;
     }
 
 private:
     template <class F> int exact_sign(F&& value) const { return detail::exact_sign(safe(), value); }
+    const AffineQuotients<1>& given() const {
+        if (!given_) given_.emplace(plane_values(*r_, *p_), std::is_same_v<T, float>);
+        return *given_;
+    }
+    const AffineQuotients<1>* scaled_if_unsafe() const { return safe() || !scaled() ? nullptr : &*scaled(); }
     const Ray<T>* r_;
     const Plane<T>* p_;
     Interval<double> num_, den_;
     int sden_;
+    mutable std::optional<AffineQuotients<1>> given_, scaled_;
+    mutable bool scaled_made_ = false;
 };
 
 static_assert(ExactQuotients<PlaneCrossing<float>> && ExactQuotients<PlaneCrossing<double>>);

@@ -195,6 +195,10 @@ template <ExactQuotients Source> int exact_compare(const Source& f, const SlabRe
 // is exact, lies with q between two doubles no farther apart than its own neighbours
 // (the same ones, or in the subnormal range coarser): faithful for q.
 template <class T, ExactQuotients Source> T exact_faithful(const Source& f, int axis, int side) {
+    // A source may offer quick_faithful<T>(axis, side): a faithful rounding without an
+    // expansion type (AffineQuotients), or none where it cannot find one exactly.
+    if constexpr (requires { f.template quick_faithful<T>(axis, side); })
+        if (const std::optional<T> q = f.template quick_faithful<T>(axis, side)) return *q;
     if constexpr (std::is_same_v<T, double> && requires { f.scaled(); })
         if (!f.safe())
             if (const auto& s = f.scaled()) {
