@@ -212,11 +212,13 @@ template <class T> std::optional<Aabb<T>> bvh_box(const Primitive<T>& p) {
 }
 
 // The certified packet's filter in E (float or double, ray_aabb_packet.hpp), bounded once
-// at the largest computed entry m and the smallest computed exit M: its enclosures
-// [max(t_min, lo(m)), max(t_min, hi(m))] of the exact latest entry and [min(t_max,
-// lo(M)), min(t_max, hi(M))] of the exact earliest exit leave a lane a possible hit unless
-// the exit's upper end lies below the entry's lower end (the certified filter's proven
-// miss): the same expressions, so the same guarantee. Both ends of an enclosure increase
+// at m, the largest of the computed entries and t_min, and M, the smallest of the
+// computed exits and t_max (certified_filter_in): its enclosures [lo(m), hi(m)] of the
+// exact latest entry and [lo(M), hi(M)] of the exact earliest exit (the entry's lower
+// end raised to t_min and the exit's upper end lowered to t_max: still bounds, the exact
+// entry being at least t_min and the exit at most t_max) leave a lane a possible hit
+// unless the exit's upper end lies below the entry's lower end (the certified filter's
+// proven miss): the same enclosures, so the same guarantee. Both ends of an enclosure increase
 // with the value bounded, so max(t_min, lo(m)) is the largest of the per-axis lower entry
 // bounds and min(t_max, hi(M)) the smallest of the upper exit bounds: on the lanes with
 // every value finite, the conservative packet's very decisions and entry bounds, with two

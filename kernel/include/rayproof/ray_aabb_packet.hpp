@@ -59,10 +59,11 @@
 //            entry bound, the lowest axis on ties, -1 when t_min is not exceeded. The
 //            bounds are taken per axis here (lo of each entry, hi of each exit).
 //            certified — the filter: a lane is a proven hit when hi(E) <= lo(X), a proven
-//            miss when lo(E) > hi(X) or a parallel axis has the origin outside; only the
-//            lanes it cannot separate, and the lanes where a value or the probe is not
-//            finite (overflow), go to the scalar certified query (ray_aabb.hpp), one by
-//            one. intersect() answers in lanes only the proven misses (their fields are
+//            miss when lo(E) > hi(X) or a parallel axis has the origin outside (with
+//            t_min and t_max taken into m and M before the bounds: certified_filter_in);
+//            only the lanes it cannot separate, and the lanes where a value or the probe
+//            is not finite (overflow), go to the scalar certified query (ray_aabb.hpp),
+//            one by one. intersect() answers in lanes only the proven misses (their fields are
 //            fixed); each hit needs its winners' faithful rounding, which the scalar
 //            query does, so a certified lane equals the scalar certified answer bit for
 //            bit, and verdict() == intersect().mask (a verdict is exact either way). A
@@ -275,7 +276,7 @@ template <class E, class B, class T, int W> struct Filtered {
     using M = simd::Mask<E, W, B>;
     M ok;      // lo <= hi, finite on parallel axes, which hold the origin (see box_ok)
     M finite;  // every computed slab value finite
-    V m, M_;   // the largest computed entry, the smallest computed exit
+    V m, M_;   // certified: the largest computed entry and t_min, the smallest computed exit and t_max
     V e_lo, x_hi, face;  // conservative only: per-axis bounds, face code
 };
 
@@ -287,8 +288,10 @@ RAYPROOF_ALWAYS_INLINE Filtered<E, B, T, W> filter(const PreparedRay<T>& pr, con
     Filtered<E, B, T, W> f;
     const V K = V::splat(Bound<E>::K), eta = V::splat(Bound<E>::eta);
     f.ok = M::all();
-    f.m = V::splat(-inf<E>);
-    f.M_ = V::splat(inf<E>);
+    // certified: the limits taken into the latest entry and the earliest exit (see
+    // certified_filter_in); conservative: the limits kept apart (e_lo, x_hi)
+    f.m = V::splat(Conservative ? -inf<E> : E(r.t_min));
+    f.M_ = V::splat(Conservative ? inf<E> : E(r.t_max));
     f.e_lo = V::splat(E(r.t_min));
     f.x_hi = V::splat(E(r.t_max));
     f.face = V::splat(E(-1));
@@ -304,11 +307,15 @@ RAYPROOF_ALWAYS_INLINE Filtered<E, B, T, W> filter(const PreparedRay<T>& pr, con
         const bool neg = pr.negative(i);
         const V inv = V::splat(reciprocal<E>(pr, i));
         // Class C3 (eft.hpp): the probe and the bounds see these very values. The near and
-        // far planes by a vector select on the reciprocal's sign (the sign of d_i, d_i != 0
-        // here), which picks the values the ternary on `neg` did, without its jump (fresh
-        // pairs, float W = 8: 2.5 ns a box test with the jump, 1.6 without).
-        const auto negm = inv < V::splat(E(0));
-        const V tn = rounded((select(negm, hi, lo) - o) * inv), tf = rounded((select(negm, lo, hi) - o) * inv);
+        // far values by min and max, as fast_lanes_of takes them: the values a select on
+        // the reciprocal's sign picks (the rounded slab value is monotone in the plane,
+        // increasing for inv > 0 and decreasing for inv < 0, inv finite and nonzero here),
+        // where lo <= hi; a lane with lo > hi or a NaN bound is dropped by ok. Without a
+        // jump on `neg` (fresh pairs, float W = 8: 2.5 ns a box test with the jump, 1.6
+        // with a select on the sign, 1.36 with a compare for it and two blends, against
+        // min and max here).
+        const V t1 = rounded((lo - o) * inv), t2 = rounded((hi - o) * inv);
+        const V tn = min(t1, t2), tf = max(t1, t2);
         sum = sum + (tn + tf);
         if constexpr (Conservative) {
             const V lo_n = tn - (abs(tn) * K + eta), hi_f = tf + (abs(tf) * K + eta);
@@ -363,19 +370,24 @@ RAYPROOF_ALWAYS_INLINE PacketHit<T, W> conservative(const PreparedRay<T>& pr, co
 struct Decided {
     std::uint32_t hit, undecided;
 };
+// The limits are taken into the computed values: m = max(t_min, m~) and M = min(t_max,
+// M~), m~ the largest computed entry and M~ the smallest computed exit. The exact latest
+// entry E = max(t_min, E~), E~ in [lo(m~), hi(m~)] (the header comment), lies in
+// [lo(m), hi(m)]: where m = m~ since E >= E~ and hi(m~) >= m~ >= t_min; where m = t_min
+// > m~ since lo(x) <= x <= hi(x) and hi increases with x (hi(m~) <= hi(t_min)).
+// Likewise the exact earliest exit X in [lo(M), hi(M)]. So hi(m) <= lo(M) proves the
+// hit and hi(M) < lo(m) the miss, with no clamping after the bounds. (An infinite limit
+// that wins, every axis parallel, leaves a NaN end: neither proof, the scalar query
+// answers.)
 template <class E, class B, class T, int W>
 RAYPROOF_ALWAYS_INLINE Decided certified_filter_in(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
     using V = simd::Vec<E, W, B>;
     const Filtered<E, B, T, W> f = filter<E, B, false>(pr, b);
-    const Ray<T>& r = pr.ray();
     const V K = V::splat(Bound<E>::K), eta = V::splat(Bound<E>::eta);
-    const V tmin = V::splat(E(r.t_min)), tmax = V::splat(E(r.t_max));
     const V bm = abs(f.m) * K + eta, bM = abs(f.M_) * K + eta;
-    const V e_lo = max(f.m - bm, tmin), e_hi = max(f.m + bm, tmin);
-    const V x_lo = min(f.M_ - bM, tmax), x_hi = min(f.M_ + bM, tmax);
     const auto sure = f.ok & f.finite;
-    const auto hit = sure & (e_hi <= x_lo);
-    const auto miss = sure & (x_hi < e_lo);
+    const auto hit = sure & (f.m + bm <= f.M_ - bM);
+    const auto miss = sure & (f.M_ + bM < f.m - bm);
     return {hit.bits(), and_not(f.ok, hit | miss).bits()};
 }
 
