@@ -855,33 +855,10 @@ template <int N> struct GrowingSum {
         for (int j = 0; j < n; ++j) s += e[j];
         return s;
     }
-    // The same value in as few components as COMPRESS leaves (Shewchuk 1997, section
-    // 2.8: two passes of fast_two_sum, exact on a nonoverlapping expansion), still
-    // nonoverlapping by increasing magnitude: fewer terms for the products taken next.
-    void compress() {
-        if (n < 2) return;
-        double g[std::size_t(N)];
-        int bottom = n - 1;
-        double q = e[n - 1];
-        for (int i = n - 2; i >= 0; --i) {
-            const Pair s = fast_two_sum(q, e[i]);
-            if (s.lo != 0) {
-                g[bottom--] = s.hi;
-                q = s.lo;
-            } else {
-                q = s.hi;
-            }
-        }
-        g[bottom] = q;
-        int top = 0;
-        for (int i = bottom + 1; i < n; ++i) {
-            const Pair s = fast_two_sum(g[i], q);
-            if (s.lo != 0) e[top++] = s.lo;
-            q = s.hi;
-        }
-        e[top++] = q;
-        n = top;
-    }
+    // The same value in as few components as COMPRESS leaves (exact_impl::compress:
+    // exact on a nonoverlapping expansion), still nonoverlapping by increasing
+    // magnitude: fewer terms for the products taken next.
+    void compress() { n = exact_impl::compress(e, n); }
 };
 
 // Whether every product of a component of x by one of y (GrowingSum) is exact by
