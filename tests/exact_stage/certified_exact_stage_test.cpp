@@ -215,6 +215,19 @@ void common_agrees_with_general(Common&& common_path, General&& general_path) {
 
 }  // namespace
 
+// Whether t is a faithful rounding of the quotient v by the bare comparisons: v is t, or
+// lies strictly between t and its neighbour on v's side (t = ±max encloses a quotient
+// beyond it).
+template <class Bare, class T> ::testing::AssertionResult faithful_by(const Bare& bare, const detail::SlabRef& v, T t) {
+    const int s = detail::exact_compare(bare, v, {-1, 0, double(t)});  // sign(v - t)
+    if (s == 0) return ::testing::AssertionSuccess();
+    const T next = s > 0 ? std::nextafter(t, std::numeric_limits<T>::infinity())
+                         : std::nextafter(t, -std::numeric_limits<T>::infinity());
+    if (!std::isfinite(next) || detail::exact_compare(bare, v, {-1, 0, double(next)}) == -s)
+        return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << "rounded to " << t << ": not faithful";
+}
+
 template <class T> class CertifiedExactStage : public ::testing::Test {};
 using Scalars = ::testing::Types<float, double>;
 TYPED_TEST_SUITE(CertifiedExactStage, Scalars);
@@ -331,15 +344,8 @@ TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
             }
         checked_cases += checked;
         for (const auto& [i, side] : values) {
-            const T t = detail::exact_faithful<T>(f, i, side);
-            const detail::SlabRef v{i, side, 0};
-            const int s = detail::exact_compare(bare, v, {-1, 0, double(t)});  // sign(value - t)
-            if (s == 0) continue;
-            const T next = s > 0 ? std::nextafter(t, std::numeric_limits<T>::infinity())
-                                 : std::nextafter(t, -std::numeric_limits<T>::infinity());
-            if (!std::isfinite(next)) continue;  // beyond ±max: t = ±max encloses it
-            ASSERT_EQ(detail::exact_compare(bare, v, {-1, 0, double(next)}), -s)
-                << what << "\n  slab value (" << i << ", " << side << ") rounded to " << t << ": not faithful";
+            ASSERT_TRUE(faithful_by(bare, {i, side, 0}, detail::exact_faithful<T>(f, i, side)))
+                << what << "\n  slab value (" << i << ", " << side << ")";
         }
     });
     EXPECT_GT(quick, 1000) << "the quick comparisons should be exercised";
@@ -400,13 +406,7 @@ TYPED_TEST(CertifiedExactStage, PlaneCrossingDecidesAsTheBareQuotient) {
             }
         }
         checked_cases += checked;
-        const T f = detail::exact_faithful<T>(x, 0, 0);
-        const int s = detail::exact_compare(bare, t, {-1, 0, double(f)});  // sign(t - f)
-        if (s == 0) return;
-        const T next = s > 0 ? std::nextafter(f, std::numeric_limits<T>::infinity())
-                             : std::nextafter(f, -std::numeric_limits<T>::infinity());
-        if (!std::isfinite(next)) return;  // beyond ±max: f = ±max encloses it
-        ASSERT_EQ(detail::exact_compare(bare, t, {-1, 0, double(next)}), -s) << what << "\n  t rounded to " << f << ": not faithful";
+        ASSERT_TRUE(faithful_by(bare, t, detail::exact_faithful<T>(x, 0, 0))) << what;
     });
     EXPECT_GT(quick, 1000) << "the quick decisions should be exercised";
     if constexpr (std::is_same_v<T, double>) {  // every float is safe
