@@ -330,8 +330,6 @@ RAYPROOF_ALWAYS_INLINE Pinned<float> plane_nearest_float(const PlaneEnclosure& e
     return nearest_float(e.lo, e.hi, e.ok);
 }
 
-// The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures
-// and the exact values on demand.
 // The crossing as an affine quotient (detail/affine_quotients.hpp): one row, the
 // normal, c = 0 and h_0 = -offset, so that side 0's (-h_0 - n·o)/(n·d) is
 // (offset - n·o)/(n·d).
@@ -347,6 +345,8 @@ template <class T> AffineValues<1> plane_values(const Ray<T>& r, const Plane<T>&
     return v;
 }
 
+// The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures
+// and the exact values on demand.
 template <class T> class PlaneCrossing {
 public:
     PlaneCrossing(const Ray<T>& r, const Plane<T>& p) : r_(&r), p_(&p) {
@@ -407,10 +407,9 @@ public:
         return exact_faithful<T>(*this, 0, 0);
     }
     // A source of exact quotients (detail/certified.hpp), for exact_compare and
-    // exact_faithful (axis 0, side 0 only).
-    // The exact side, as the Obb's (ObbFrame): the quotient on the given input, and at a
-    // scale the Expansion type and quick_compare are exact at where the given one is
-    // not; each made on first use.
+    // exact_faithful (axis 0, side 0 only), as the Obb's (ObbFrame): the quotient on the
+    // given input, and at a scale the Expansion type and quick_compare are exact at where
+    // the given one is not; each made on first use.
     template <class E> E num(int = 0, int = 0) const { return given().template num<E>(0, 0); }
     template <class E> E den(int = 0) const { return given().template den<E>(0); }
     bool safe() const { return given().safe(); }
