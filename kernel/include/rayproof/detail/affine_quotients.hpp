@@ -5,9 +5,9 @@
 // normal, c = 0, h_0 = -offset, side 0: (offset - n·o)/(n·d); ray_plane.hpp).
 // As a source of exact quotients (detail/certified.hpp, ExactQuotients) over the input
 // in double: as given (widened), or rescaled into the range where the Expansion type
-// and quick_compare are exact (rescaled()); quick_compare and the exact signs of num and
-// den without an expansion type, from fixed-size sums of error-free products
-// (GrowingSum, exact.hpp).
+// and quick_compare are exact (rescaled()); quick_compare, quick_faithful and the exact
+// signs of num and den without an expansion type, from fixed-size sums of error-free
+// products (GrowingSum, exact.hpp).
 // Rescaling: the positions (o, c) by 2^sp, the rows a_i by 2^sa, the h_i by 2^(sp + sa)
 // and the direction by 2^sd (each exact: every scaled value is a normal double) multiply
 // every num by 2^(sp + sa), every den by 2^(sa + sd) and every quotient by
