@@ -594,16 +594,6 @@ private:
         }
     }
 
-    // A hint to load the cache lines of [p, p + bytes) (no effect on any answer).
-    static RAYPROOF_ALWAYS_INLINE void prefetch([[maybe_unused]] const void* p,
-                                                [[maybe_unused]] std::size_t bytes) noexcept {
-#if defined(__GNUC__) || defined(__clang__)
-        const char* c = static_cast<const char*>(p);
-        for (std::size_t k = 0; k < bytes; k += 64) __builtin_prefetch(c + k);
-        __builtin_prefetch(c + bytes - 1);
-#endif
-    }
-
     struct Entry {
         std::uint32_t first, count;  // as a node lane: count 0 an inner node
         double t;                    // the lane's t_enter (conservative, certified: a lower bound)
@@ -611,9 +601,9 @@ private:
     // A deferred lane's memory: its node, or its leaf's primitives (their compact balls
     // where there are any).
     RAYPROOF_ALWAYS_INLINE void prefetch(const Entry& e) const noexcept {
-        if (e.count == 0) prefetch(&nodes_[e.first], sizeof(Node));
-        else if (e.first < balls_.size()) prefetch(&balls_[e.first], e.count * sizeof(Sphere<T>));
-        else prefetch(&prims_[e.first], e.count * sizeof(Primitive<T>));
+        if (e.count == 0) detail::prefetch(&nodes_[e.first], sizeof(Node));
+        else if (e.first < balls_.size()) detail::prefetch(&balls_[e.first], e.count * sizeof(Sphere<T>));
+        else detail::prefetch(&prims_[e.first], e.count * sizeof(Primitive<T>));
     }
 
     // A node's balls, fetched while the node is tested: its lane 0 starts the node's range
@@ -624,7 +614,7 @@ private:
     RAYPROOF_ALWAYS_INLINE void prefetch_balls(const Node& n) const noexcept {
         const std::size_t p = n.first[0];
         if (n.count[0] != 0 && p < balls_.size())
-            prefetch(&balls_[p], std::min(std::size_t(W), balls_.size() - p) * sizeof(Sphere<T>));
+            detail::prefetch(&balls_[p], std::min(std::size_t(W), balls_.size() - p) * sizeof(Sphere<T>));
     }
 
     // The stored primitive p's answer in the mode: from its compact copy in balls_ when

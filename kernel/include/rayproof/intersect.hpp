@@ -180,13 +180,18 @@ template <template <class> class R, class T, class Shape, class Mode>
 // it pays (the certified Aabb, detail/ray_aabb_batch.hpp, and the certified plane,
 // detail/ray_plane_batch.hpp: its enclosure for float rays, its verdict filter for double
 // rays; with SSE2 or AVX2) the batch runs W rays at a time in SIMD lanes
-// (batch::lane_batch), with each ray's scalar answer bit for bit.
+// (batch::lane_batch), with each ray's scalar answer bit for bit. Every batch loop asks
+// for its rays' cache lines some way ahead (batch::prefetch_ahead): a batch streams its
+// rays from memory once.
 namespace detail {
 template <class R, class T, class Shape, class Mode, class Out, class Query>
 void batch_of(std::span<const R> rays, const Shape& shape, std::span<Out> out, const char* mismatch, Query query_one) {
     if (out.size() != rays.size()) batch_size_mismatch(mismatch);
     if constexpr (!DirectPath<R, Shape, Mode>) {
-        for (std::size_t i = 0; i < rays.size(); ++i) out[i] = query_one(rays[i].ray(), shape);
+        for (std::size_t i = 0; i < rays.size(); ++i) {
+            batch::prefetch_ahead(rays, i, 1);
+            out[i] = query_one(rays[i].ray(), shape);
+        }
     } else {
         const auto batch = [](std::span<const R> r, const Shape& s, std::span<Out> o) noexcept {
             const auto prepared = prepare(s);
@@ -197,6 +202,7 @@ void batch_of(std::span<const R> rays, const Shape& shape, std::span<Out> out, c
                 return;
             }
             for (std::size_t i = 0; i < r.size(); ++i) {
+                batch::prefetch_ahead(r, i, 1);
                 if constexpr (std::is_same_v<Out, Verdict>)
                     o[i] = verdict_query(r[i], prepared, Mode{});
                 else

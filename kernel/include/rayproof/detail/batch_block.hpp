@@ -7,6 +7,7 @@
 // (scalar_certified).
 #pragma once
 
+#include <rayproof/detail/float_util.hpp>
 #include <rayproof/detail/simd.hpp>
 #include <rayproof/prepared_ray.hpp>
 #include <rayproof/types.hpp>
@@ -45,6 +46,18 @@ template <class R, class T, int W> RAYPROOF_ALWAYS_INLINE void gather(const R* r
         g.t_min[i] = double(r.t_min);
         g.t_max[i] = double(r.t_max);
     }
+}
+
+// A batch streams its rays from memory once, and a loop whose branches depend on each
+// ray's outcome (a hit or a miss, a fallback) keeps few of the next rays' loads in flight:
+// so every batch loop asks for the cache lines of the rays kPrefetchBytes ahead of those
+// it answers. Measured on fresh rays from a pool of 1M (bench/ batch sweep's workload,
+// -O2, ns a ray, double Aabb): the fast scalar loop 39 without, 28 at 256 bytes ahead,
+// 10 at 1 KiB, 8.6 at 2 KiB, 8.1 at 4 KiB, 8.6 at 8 KiB; a copy of the rays alone takes 4.
+inline constexpr std::size_t kPrefetchBytes = 2048;
+template <class R> RAYPROOF_ALWAYS_INLINE void prefetch_ahead(std::span<const R> rays, std::size_t first, std::size_t count) {
+    constexpr std::size_t ahead = (kPrefetchBytes + sizeof(R) - 1) / sizeof(R);
+    if (rays.size() - first > ahead + count) prefetch(rays.data() + first + ahead, count * sizeof(R));
 }
 
 // Whether batch_of takes the lane paths: where a native register holds two doubles or
@@ -89,6 +102,7 @@ RAYPROOF_ALWAYS_INLINE void for_each_block(std::span<const R> rays, const P& p, 
             const std::size_t end = blocks - c < kFallbackChunk ? blocks : c + kFallbackChunk;
             std::size_t m = 0;
             for (std::size_t k = c; k < end; k += W) {
+                prefetch_ahead(rays, k, W);
                 gather<R, T, W>(rays.data() + k, g);
                 const std::uint32_t undecided = block(k, g);
                 RAYPROOF_UNROLL_LANES
@@ -101,6 +115,7 @@ RAYPROOF_ALWAYS_INLINE void for_each_block(std::span<const R> rays, const P& p, 
         }
     } else {
         for (std::size_t k = 0; k < blocks; k += W) {
+            prefetch_ahead(rays, k, W);
             gather<R, T, W>(rays.data() + k, g);
             const std::uint32_t undecided = block(k, g);
             if (undecided != 0) [[unlikely]]

@@ -8,6 +8,7 @@
 
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 
@@ -47,6 +48,16 @@
 #endif
 
 namespace rayproof::detail {
+
+// A hint to load the cache lines of [p, p + bytes) (no effect on any answer): the BVH's
+// next nodes and leaves, and a batch's rays some way ahead of the one answered.
+RAYPROOF_ALWAYS_INLINE void prefetch([[maybe_unused]] const void* p, [[maybe_unused]] std::size_t bytes) noexcept {
+#if defined(__GNUC__) || defined(__clang__)
+    const char* c = static_cast<const char*>(p);
+    for (std::size_t k = 0; k < bytes; k += 64) __builtin_prefetch(c + k);
+    __builtin_prefetch(c + bytes - 1);
+#endif
+}
 
 template <class T> inline constexpr T inf = std::numeric_limits<T>::infinity();
 
