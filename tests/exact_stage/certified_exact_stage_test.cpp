@@ -277,6 +277,29 @@ TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
     }
 }
 
+// The routes an affine frame's exact side (AffineSource: the Obb's frame, the plane's
+// crossing) took over a test's cases: its sums on the given input, safe for expansions
+// (quick); the rescaled input (scaled, which must itself be safe); and a quick comparison
+// deciding on input not safe (checked: every product checked, the sums scaled apart).
+struct AffineRoutes {
+    int quick = 0, scaled = 0, checked = 0;
+    template <class F> ::testing::AssertionResult count(const F& f) {
+        quick += f.safe();
+        if (f.safe() || !f.scaled()) return ::testing::AssertionSuccess();
+        ++scaled;
+        if (f.scaled()->safe()) return ::testing::AssertionSuccess();
+        return ::testing::AssertionFailure() << "the rescaled input is not safe for expansions";
+    }
+    // Each route taken often enough to be tested (for double: every float is safe).
+    template <class T> void expect_exercised(int checked_at_least) const {
+        EXPECT_GT(quick, 1000) << "the quick decisions should be exercised";
+        if constexpr (std::is_same_v<T, double>) {
+            EXPECT_GT(scaled, 100) << "the scaled decisions should be exercised";
+            EXPECT_GT(checked, checked_at_least) << "the checked quick comparisons (input not safe) should decide";
+        }
+    }
+};
+
 // The oriented box's exact decisions through its frame, which takes them without an
 // expansion type (ObbQuotients: quick_compare, quick_faithful and the signs of num and
 // den, from sums of error-free products) and, where the input is not safe, at a safer
@@ -292,17 +315,13 @@ TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
 // be exercised.
 TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
     using T = TypeParam;
-    int scaled_cases = 0, quick = 0, checked_cases = 0;
+    AffineRoutes routes;
     on_valid_cases<T, Obb<T>>("the comparisons", [&](const auto& c, const std::string& where, bool& answered) {
         answered = true;
         const detail::ObbFrame<T> f(c.ray, c.shape);
         const detail::Unscaled<detail::ObbFrame<T>> bare{f};
         const std::string what = where + ": " + ::testing::PrintToString(c.ray) + " vs " + ::testing::PrintToString(c.shape);
-        if (!f.safe() && f.scaled()) {
-            ++scaled_cases;
-            ASSERT_TRUE(f.scaled()->safe()) << what;
-        }
-        quick += f.safe();
+        ASSERT_TRUE(routes.count(f)) << what;
         for (int i = 0; i < 3; ++i) {  // the exact signs of den and num, as the bare quotients give them
             const auto bare_sign = [&](auto value) {
                 return detail::exact_sign(f.safe(), [&](auto tag) { return value(tag); });
@@ -342,17 +361,13 @@ TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
                     checked = checked || !f.safe();
                 }
             }
-        checked_cases += checked;
+        routes.checked += checked;
         for (const auto& [i, side] : values) {
             ASSERT_TRUE(faithful_by(bare, {i, side, 0}, detail::exact_faithful<T>(f, i, side)))
                 << what << "\n  slab value (" << i << ", " << side << ")";
         }
     });
-    EXPECT_GT(quick, 1000) << "the quick comparisons should be exercised";
-    if constexpr (std::is_same_v<T, double>) {  // every float is safe
-        EXPECT_GT(scaled_cases, 100) << "the scaled comparisons should be exercised";
-        EXPECT_GT(checked_cases, 100) << "the checked quick comparisons (input not safe) should decide";
-    }
+    routes.expect_exercised<T>(100);
 }
 
 // The plane's exact decisions through its crossing, which takes them from fixed-size
@@ -366,24 +381,20 @@ TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
 // rescaled and the checked routes must be exercised.
 TYPED_TEST(CertifiedExactStage, PlaneCrossingDecidesAsTheBareQuotient) {
     using T = TypeParam;
-    int scaled_cases = 0, quick = 0, checked_cases = 0;
+    AffineRoutes routes;
     on_valid_cases<T, Plane<T>>("the crossing", [&](const auto& c, const std::string& where, bool& answered) {
         answered = true;
         const detail::PlaneCrossing<T> x(c.ray, c.shape);
         const detail::Unscaled<detail::PlaneCrossing<T>> bare{x};
         const std::string what = where + ": " + ::testing::PrintToString(c.ray) + " vs " + ::testing::PrintToString(c.shape);
-        if (!x.safe() && x.scaled()) {
-            ++scaled_cases;
-            ASSERT_TRUE(x.scaled()->safe()) << what;
-        }
-        quick += x.safe();
+        ASSERT_TRUE(routes.count(x)) << what;
         const auto bare_sign = [&](auto value) {
             return detail::exact_sign(x.safe(), [&](auto tag) { return value(tag); });
         };
-        const int den = bare_sign([&](auto tag) { return x.template den<typename decltype(tag)::type>(); });
+        const int den = bare_sign([&](auto tag) { return x.template den<typename decltype(tag)::type>(0); });
         ASSERT_EQ(x.den_sign_exact(), den) << what << ": the sign of n·d";
         if (den == 0) {
-            const int num = bare_sign([&](auto tag) { return x.template num<typename decltype(tag)::type>(); });
+            const int num = bare_sign([&](auto tag) { return x.template num<typename decltype(tag)::type>(0, 0); });
             ASSERT_EQ(x.in_plane_exact(), num == 0) << what << ": the ray in the plane";
             return;
         }
@@ -405,14 +416,10 @@ TYPED_TEST(CertifiedExactStage, PlaneCrossingDecidesAsTheBareQuotient) {
                 checked = checked || !x.safe();
             }
         }
-        checked_cases += checked;
+        routes.checked += checked;
         ASSERT_TRUE(faithful_by(bare, t, detail::exact_faithful<T>(x, 0, 0))) << what;
     });
-    EXPECT_GT(quick, 1000) << "the quick decisions should be exercised";
-    if constexpr (std::is_same_v<T, double>) {  // every float is safe
-        EXPECT_GT(scaled_cases, 100) << "the scaled decisions should be exercised";
-        EXPECT_GT(checked_cases, 20) << "the checked quick comparisons (input not safe) should decide";
-    }
+    routes.expect_exercised<T>(20);
 }
 
 // The sphere's exact signs on the rescaled input (SphereQuadratic, where the given one

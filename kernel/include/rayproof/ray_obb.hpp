@@ -160,8 +160,12 @@ template <class T> AffineValues<3> obb_values(const Ray<T>& r, const Obb<T>& b) 
 using ObbQuotients = AffineQuotients<3>;
 
 // The slab frame of an oriented box: o'_i = (o - c)·a_i, d'_i = d·a_i, slab
-// [-h_i, h_i]; value (±h_i - o'_i)/d'_i.
-template <class T> class ObbFrame {
+// [-h_i, h_i]; value (±h_i - o'_i)/d'_i. Its exact side (num, den, safe, quick_compare,
+// quick_faithful, scaled) is AffineSource's, on the slab values as ObbQuotients.
+template <class T> class ObbFrame : public AffineSource<3, ObbFrame<T>> {
+    using Source = AffineSource<3, ObbFrame<T>>;
+    friend Source;
+
 public:
     // Enclosures of o'_i and d'_i. The conservative mode's come from interval arithmetic
     // (outward rounding per operation, the tighter of the two, whose ends it answers);
@@ -177,7 +181,7 @@ public:
     // Contraction (detail/eft.hpp): class C1; a fused a_ji·Δ~_j enters the sum with
     // rounding error 0, and the bound, taken on the rounded |products|, is off from the
     // exact ones' by a factor 1 + u at most, which the doubling covers.
-    ObbFrame(const Ray<T>& r, const Obb<T>& b) : r_(&r), b_(&b) {
+    ObbFrame(const Ray<T>& r, const Obb<T>& b) : Source(std::is_same_v<T, float>), r_(&r), b_(&b) {
         Interval<double> oc[3];
         for (int j = 0; j < 3; ++j) oc[j] = Interval<double>(double(r.origin[j])) - Interval<double>(double(b.center[j]));
         for (int i = 0; i < 3; ++i) {
@@ -193,7 +197,7 @@ public:
             sden_[i] = s != 2 ? s : exact_den_sign(i);
         }
     }
-    ObbFrame(const Ray<T>& r, const Obb<T>& b, certified_t) : r_(&r), b_(&b) {
+    ObbFrame(const Ray<T>& r, const Obb<T>& b, certified_t) : Source(std::is_same_v<T, float>), r_(&r), b_(&b) {
         constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022;
         double oc[3], d[3];
         for (int j = 0; j < 3; ++j) {
@@ -226,24 +230,6 @@ public:
         const double h = b_->half_extent[i];
         return divide_signed(Interval<double>(side ? h : -h) - op_[i], dp_[i], sden_[i]);
     }
-    // The exact side (ObbQuotients): the slab values on the given input, and at a scale
-    // the Expansion type and quick_compare are exact at where the given one is not
-    // (exact_compare's comparisons use it when safe() is false). Each made on first use,
-    // once per frame (a query may compare several times).
-    template <class E> E num(int i, int side) const { return given().template num<E>(i, side); }
-    template <class E> E den(int i) const { return given().template den<E>(i); }
-    bool safe() const { return given().safe(); }
-    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const { return given().quick_compare(a, b); }
-    template <class U> std::optional<U> quick_faithful(int i, int side) const {
-        return given().template quick_faithful<U>(i, side);
-    }
-    const std::optional<ObbQuotients>& scaled() const {
-        if (!scaled_made_) {
-            scaled_made_ = true;
-            scaled_ = ObbQuotients::rescaled(obb_values(*r_, *b_));
-        }
-        return scaled_;
-    }
     // t faithfully rounded to T, as the straight-line path rounds it (so that the two
     // paths answer alike bit for bit): for float by obb_nearest_float first, then by
     // pin_quotient (for float the faithful double rounded to nearest); next from the
@@ -265,13 +251,11 @@ public:
             if (!above || !below) return std::nullopt;
             return *above >= 0 && *below <= 0;
         };
-        if (const std::optional<bool> in = inside(given())) return *in;
-        if (const ObbQuotients* q = scaled_if_unsafe())
-            if (const std::optional<bool> in = inside(*q)) return *in;
+        if (const std::optional<bool> in = this->from_sums(inside)) return *in;
         const double h = b_->half_extent[i];
-        const std::optional<bool> in = with_exact(safe(), [&](auto tag) -> std::optional<bool> {
+        const std::optional<bool> in = with_exact(this->safe(), [&](auto tag) -> std::optional<bool> {
             using E = typename decltype(tag)::type;
-            const E o = given().template oprime<E>(i), eh(h);
+            const E o = this->given().template oprime<E>(i), eh(h);
             const E above = eh - o, below = eh + o;
             if (any_overflowed(above, below)) return std::nullopt;
             return above.sign() >= 0 && below.sign() >= 0;
@@ -279,10 +263,10 @@ public:
         return *in;
     }
     int exact_den_sign(int i) const {
-        if (const std::optional<int> s = given().den_sign(i)) return *s;
-        if (const ObbQuotients* q = scaled_if_unsafe())
-            if (const std::optional<int> s = q->den_sign(i)) return *s;
-        return detail::exact_sign(safe(), [&](auto tag) { return den<typename decltype(tag)::type>(i); });
+        if (const std::optional<int> s = this->from_sums([&](const ObbQuotients& q) { return q.den_sign(i); }))
+            return *s;
+        return detail::exact_sign(this->safe(),
+                                  [&](auto tag) { return this->template den<typename decltype(tag)::type>(i); });
     }
 
 private:
@@ -291,17 +275,11 @@ private:
         if (!(e <= std::numeric_limits<double>::max())) return {-inf, inf};
         return {step_down(v - e), step_up(v + e)};
     }
-    const ObbQuotients& given() const {
-        if (!given_) given_.emplace(obb_values(*r_, *b_), std::is_same_v<T, float>);
-        return *given_;
-    }
-    const ObbQuotients* scaled_if_unsafe() const { return safe() || !scaled() ? nullptr : &*scaled(); }
+    AffineValues<3> affine_values() const { return obb_values(*r_, *b_); }
     const Ray<T>* r_;
     const Obb<T>* b_;
     Interval<double> op_[3], dp_[3];
     int sden_[3];
-    mutable std::optional<ObbQuotients> given_, scaled_;
-    mutable bool scaled_made_ = false;
 };
 
 static_assert(SlabFrame<ObbFrame<float>, float> && SlabFrame<ObbFrame<double>, double>);

@@ -346,10 +346,15 @@ template <class T> AffineValues<1> plane_values(const Ray<T>& r, const Plane<T>&
 }
 
 // The crossing t = num/den, num = offset - n·o, den = n·d, with interval enclosures
-// and the exact values on demand.
-template <class T> class PlaneCrossing {
+// and the exact values on demand: a source of exact quotients (detail/certified.hpp),
+// for exact_compare and exact_faithful (axis 0, side 0 only), as the Obb's frame is, by
+// AffineSource (num, den, safe, quick_compare, quick_faithful, scaled).
+template <class T> class PlaneCrossing : public AffineSource<1, PlaneCrossing<T>> {
+    using Source = AffineSource<1, PlaneCrossing<T>>;
+    friend Source;
+
 public:
-    PlaneCrossing(const Ray<T>& r, const Plane<T>& p) : r_(&r), p_(&p) {
+    PlaneCrossing(const Ray<T>& r, const Plane<T>& p) : Source(std::is_same_v<T, float>), r_(&r), p_(&p) {
         Interval<double> n(double(p.offset)), d(0.0);
         for (int j = 0; j < 3; ++j) {
             const Interval<double> nj(double(p.normal[j]));
@@ -372,16 +377,14 @@ public:
     // fixed-size sums where they take the input (AffineQuotients, given or rescaled:
     // signs unchanged by the scaling), else in an exact type.
     int den_sign_exact() const {
-        if (const std::optional<int> s = given().den_sign(0)) return *s;
-        if (const AffineQuotients<1>* q = scaled_if_unsafe())
-            if (const std::optional<int> s = q->den_sign(0)) return *s;
-        return exact_sign([&](auto tag) { return den<typename decltype(tag)::type>(); });
+        if (const std::optional<int> s = this->from_sums([](const AffineQuotients<1>& q) { return q.den_sign(0); }))
+            return *s;
+        return exact_sign([&](auto tag) { return this->template den<typename decltype(tag)::type>(0); });
     }
     bool in_plane_exact() const {
-        if (const std::optional<int> s = given().num_sign(0, 0)) return *s == 0;
-        if (const AffineQuotients<1>* q = scaled_if_unsafe())
-            if (const std::optional<int> s = q->num_sign(0, 0)) return *s == 0;
-        return exact_sign([&](auto tag) { return num<typename decltype(tag)::type>(); }) == 0;
+        if (const std::optional<int> s = this->from_sums([](const AffineQuotients<1>& q) { return q.num_sign(0, 0); }))
+            return *s == 0;
+        return exact_sign([&](auto tag) { return this->template num<typename decltype(tag)::type>(0, 0); }) == 0;
     }
     Interval<double> enclose() const { return divide_signed(num_, den_, sden_); }
     // t faithfully rounded to T, given its enclosure t (den_sign() != 0), as the
@@ -406,38 +409,14 @@ public:
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, 0, 0);
     }
-    // A source of exact quotients (detail/certified.hpp), for exact_compare and
-    // exact_faithful (axis 0, side 0 only), as the Obb's (ObbFrame): the quotient on the
-    // given input, and at a scale the Expansion type and quick_compare are exact at where
-    // the given one is not; each made on first use.
-    template <class E> E num(int = 0, int = 0) const { return given().template num<E>(0, 0); }
-    template <class E> E den(int = 0) const { return given().template den<E>(0); }
-    bool safe() const { return given().safe(); }
-    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const { return given().quick_compare(a, b); }
-    template <class U> std::optional<U> quick_faithful(int i, int side) const {
-        return given().template quick_faithful<U>(i, side);
-    }
-    const std::optional<AffineQuotients<1>>& scaled() const {
-        if (!scaled_made_) {
-            scaled_made_ = true;
-            scaled_ = AffineQuotients<1>::rescaled(plane_values(*r_, *p_));
-        }
-        return scaled_;
-    }
 
 private:
-    template <class F> int exact_sign(F&& value) const { return detail::exact_sign(safe(), value); }
-    const AffineQuotients<1>& given() const {
-        if (!given_) given_.emplace(plane_values(*r_, *p_), std::is_same_v<T, float>);
-        return *given_;
-    }
-    const AffineQuotients<1>* scaled_if_unsafe() const { return safe() || !scaled() ? nullptr : &*scaled(); }
+    template <class F> int exact_sign(F&& value) const { return detail::exact_sign(this->safe(), value); }
+    AffineValues<1> affine_values() const { return plane_values(*r_, *p_); }
     const Ray<T>* r_;
     const Plane<T>* p_;
     Interval<double> num_, den_;
     int sden_;
-    mutable std::optional<AffineQuotients<1>> given_, scaled_;
-    mutable bool scaled_made_ = false;
 };
 
 static_assert(ExactQuotients<PlaneCrossing<float>> && ExactQuotients<PlaneCrossing<double>>);

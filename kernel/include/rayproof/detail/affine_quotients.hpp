@@ -7,7 +7,8 @@
 // in double: as given (widened), or rescaled into the range where the Expansion type
 // and quick_compare are exact (rescaled()); quick_compare, quick_faithful and the exact
 // signs of num and den without an expansion type, from fixed-size sums of error-free
-// products (GrowingSum, exact.hpp).
+// products (GrowingSum, exact.hpp). AffineSource serves a frame both, each made on first
+// use.
 // Rescaling: the positions (o, c) by 2^sp, the rows a_i by 2^sa, the h_i by 2^(sp + sa)
 // and the direction by 2^sd (each exact: every scaled value is a normal double) multiply
 // every num by 2^(sp + sa), every den by 2^(sa + sd) and every quotient by
@@ -25,6 +26,7 @@
 #include <cstddef>
 #include <limits>
 #include <optional>
+#include <utility>
 
 namespace rayproof::detail {
 
@@ -228,6 +230,51 @@ private:
     AffineValues<R> v_;
     int shift_;
     bool safe_;
+};
+
+// The exact side of a frame whose slab values are affine quotients (ObbFrame, ray_obb.hpp;
+// PlaneCrossing, ray_plane.hpp), as a source of exact quotients: the quotients on the
+// given input, and the rescaled ones where those are not safe for expansions
+// (exact_compare and exact_faithful use scaled() then). A query asks the exact side
+// rarely and then several times, so each is made on first use, once, from the frame's
+// Frame::affine_values() (CRTP: the frame derives from AffineSource<R, Frame>).
+template <int R, class Frame> class AffineSource {
+public:
+    template <class E> E num(int i, int side) const { return given().template num<E>(i, side); }
+    template <class E> E den(int i) const { return given().template den<E>(i); }
+    bool safe() const { return given().safe(); }
+    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const { return given().quick_compare(a, b); }
+    template <class U> std::optional<U> quick_faithful(int i, int side) const {
+        return given().template quick_faithful<U>(i, side);
+    }
+    const std::optional<AffineQuotients<R>>& scaled() const {
+        if (!scaled_made_) {
+            scaled_made_ = true;
+            scaled_ = AffineQuotients<R>::rescaled(values());
+        }
+        return scaled_;
+    }
+
+protected:
+    explicit AffineSource(bool floats) : floats_(floats) {}
+    // What decide(q) answers (an optional) on the given quotients, else on the rescaled
+    // ones when the given are not safe; nullopt where neither decides. For the signs of
+    // num and den (num_sign, den_sign), which the scaling leaves unchanged.
+    template <class Decide> auto from_sums(Decide&& decide) const -> decltype(decide(std::declval<const AffineQuotients<R>&>())) {
+        if (auto x = decide(given())) return x;
+        if (!safe() && scaled()) return decide(*scaled());
+        return std::nullopt;
+    }
+    const AffineQuotients<R>& given() const {
+        if (!given_) given_.emplace(values(), floats_);
+        return *given_;
+    }
+
+private:
+    AffineValues<R> values() const { return static_cast<const Frame&>(*this).affine_values(); }
+    mutable std::optional<AffineQuotients<R>> given_, scaled_;
+    mutable bool scaled_made_ = false;
+    bool floats_;
 };
 
 }  // namespace rayproof::detail
