@@ -63,12 +63,13 @@
 //            t_min and t_max taken into m and M before the bounds: certified_filter_in);
 //            only the lanes it cannot separate, and the lanes where a value or the probe
 //            is not finite (overflow), go to the scalar certified query (ray_aabb.hpp),
-//            one by one. intersect() answers in lanes only the proven misses (their fields are
-//            fixed); each hit needs its winners' faithful rounding, which the scalar
-//            query does, so a certified lane equals the scalar certified answer bit for
-//            bit, and verdict() == intersect().mask (a verdict is exact either way). A
-//            ray with some |d_i| >= 2^1022 (1/d_i subnormal: the bound fails) goes to the
-//            scalar query in every lane, as do conservative lanes whose values overflow.
+//            one by one. intersect() answers in lanes only the proven misses (their
+//            fields are fixed); each hit needs its winners' faithful rounding, which the
+//            scalar query does, so a certified lane equals the scalar certified answer
+//            bit for bit, and verdict() == intersect().mask (a verdict is exact either
+//            way). A ray with some |d_i| >= 2^1022 (1/d_i subnormal: the bound fails)
+//            goes to the scalar query in every lane, as do conservative lanes whose
+//            values overflow.
 // Environment: the conservative and certified forms answer in the default
 //            floating-point environment whatever the caller's (detail/fp_env.hpp),
 //            read once per packet (the lanes' scalar queries run inside it:
@@ -290,10 +291,8 @@ RAYPROOF_ALWAYS_INLINE Filtered<E, B, T, W> filter(const PreparedRay<T>& pr, con
     f.ok = M::all();
     // certified: the limits taken into the latest entry and the earliest exit (see
     // certified_filter_in); conservative: the limits kept apart (e_lo, x_hi)
-    f.m = V::splat(Conservative ? -inf<E> : E(r.t_min));
-    f.M_ = V::splat(Conservative ? inf<E> : E(r.t_max));
-    f.e_lo = V::splat(E(r.t_min));
-    f.x_hi = V::splat(E(r.t_max));
+    f.m = f.e_lo = V::splat(E(r.t_min));
+    f.M_ = f.x_hi = V::splat(E(r.t_max));
     f.face = V::splat(E(-1));
     V sum = V::splat(E(0));
     RAYPROOF_UNROLL3
