@@ -332,15 +332,21 @@ template <class T, class Shape, class Mode> void time_batch(benchmark::State& st
     st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(n));
     st.counters["rays"] = double(n);
 }
-template <class T, class Shape> void register_batch() {
+// Each row's mode named with `suffix` appended (the AVX2 build's lane batches: "_avx2",
+// certified only).
+template <class T, class Shape> void register_batch(std::string_view suffix = {}, bool certified_only = false) {
+    const auto reg = [suffix](std::size_t n, auto mode) {
+        using Mode = decltype(mode);
+        const std::string name = bench_name<T, Shape>("batch", std::string(mode_name(mode)) + std::string(suffix),
+                                                      std::to_string(n));
+        benchmark::RegisterBenchmark(name.c_str(), [n](benchmark::State& st) { time_batch<T, Shape, Mode>(st, n); });
+    };
     for (std::size_t n = 1; n <= options().batch_max; n *= 10) {
-        const std::string size = std::to_string(n);
-        benchmark::RegisterBenchmark(bench_name<T, Shape>("batch", "fast", size).c_str(),
-                                     [n](benchmark::State& st) { time_batch<T, Shape, fast_t>(st, n); });
-        benchmark::RegisterBenchmark(bench_name<T, Shape>("batch", "conservative", size).c_str(),
-                                     [n](benchmark::State& st) { time_batch<T, Shape, conservative_t>(st, n); });
-        benchmark::RegisterBenchmark(bench_name<T, Shape>("batch", "certified", size).c_str(),
-                                     [n](benchmark::State& st) { time_batch<T, Shape, certified_t>(st, n); });
+        if (!certified_only) {
+            reg(n, fast_t{});
+            reg(n, conservative_t{});
+        }
+        reg(n, certified_t{});
     }
 }
 

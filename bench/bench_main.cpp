@@ -1,5 +1,6 @@
 // bench/bench_main.cpp — the speed half of the trade: every shape × scalar type ×
-// workload × method (scalar) and the batch sweep, as Google Benchmark runs.
+// workload × method (scalar) and the batch sweep, as Google Benchmark runs. Built with
+// RAYPROOF_BENCH_BATCH_SUFFIX (rayproof_batch_bench_avx2), the lane batches alone.
 //   rayproof_bench [benchmark flags] [--cases=N] [--cgal_cases=N] [--batch_max=N] [--seed=S]
 //                  [--watchdog=SECONDS] [--fixed_order]
 #include "bench_common.hpp"
@@ -37,6 +38,14 @@ int main(int argc, char** argv) {
     benchmark::AddCustomContext("cgal_cases", std::to_string(options().cgal_cases));
     benchmark::AddCustomContext("seed", std::to_string(options().seed));
     benchmark::AddCustomContext("order", options().fixed_order ? "fixed" : "shuffled per pass");
+#ifdef RAYPROOF_BENCH_BATCH_SUFFIX
+    // Built for another instruction set (bench/CMakeLists.txt): the lane batches alone
+    // (the certified Aabb's and plane's), their mode named with the suffix.
+    register_batch<double, Aabb<double>>(RAYPROOF_BENCH_BATCH_SUFFIX, true);
+    register_batch<float, Aabb<float>>(RAYPROOF_BENCH_BATCH_SUFFIX, true);
+    register_batch<double, Plane<double>>(RAYPROOF_BENCH_BATCH_SUFFIX, true);
+    register_batch<float, Plane<float>>(RAYPROOF_BENCH_BATCH_SUFFIX, true);
+#else
     register_aabb();
     register_obb();
     register_plane();
@@ -48,6 +57,7 @@ int main(int argc, char** argv) {
 #endif
 #ifdef RAYPROOF_BENCH_HAVE_EMBREE
     register_embree();
+#endif
 #endif
     benchmark::RunSpecifiedBenchmarks();
     benchmark::Shutdown();

@@ -633,8 +633,8 @@ std::string batch_table(const Report& r) {
     std::string o = row(cells) + rule(3, sizes.size());
     for (const auto& s : kShapes)
         for (const auto& t : kTypes)
-            for (const char* m : {"fast", "conservative", "certified"}) {
-                cells = {kShapeLabel.at(s), t, m};
+            for (const std::string m : {"fast", "conservative", "certified", "certified_avx2"}) {
+                cells = {kShapeLabel.at(s), t, m == "certified_avx2" ? "certified, AVX2" : m};
                 bool timed = false;  // shapes without a batch sweep (the polyhedron) get no row
                 for (long n : sizes) {
                     const auto it = r.timing.find("batch/" + s + "/" + t + "/" + m + "/" + std::to_string(n));
@@ -1010,7 +1010,7 @@ void write_plot_script(const std::string& path, const std::string& png) {
 // ---- the command line and the outputs -----------------------------------------------
 struct Args {
     std::string bench, counters, tracer, tracer_facts, md, plot_dir, plot_png, plot_ref, tracer_png, audit, summary_md;
-    std::string render_md, packets;
+    std::string render_md, packets, batch_avx2;
     std::vector<std::string> accuracy, bvh;
     std::vector<std::pair<std::string, std::string>> meta;
 };
@@ -1031,6 +1031,7 @@ std::optional<int> parse_args(int argc, char** argv, Args& a) {
                    "the BVH timings: lines KEY VALUE (rayproof_bvh_bench's and the generated scenes', scene-N-MODE "
                    "seconds; repeatable)");
     app.add_option("--packets", a.packets, "rayproof_packet_bench's JSON (the box packets' table)");
+    app.add_option("--batch-avx2", a.batch_avx2, "rayproof_batch_bench_avx2's JSON (the batch table's AVX2 rows)");
     app.add_option("--render-md", a.render_md, "write render/README.md's paragraph on speed here");
     app.add_option("--meta", meta, "a line of the report's head (repeatable)")
         ->type_name("KEY=VALUE")
@@ -1054,6 +1055,7 @@ Report load(const Args& a) {
     r.meta = a.meta;
     r.timing = read_bench(a.bench, nullptr, &r.context);
     if (!a.counters.empty()) r.counters_timing = read_bench(a.counters, &r.rates, nullptr);
+    if (!a.batch_avx2.empty()) r.timing.merge(read_bench(a.batch_avx2, nullptr, nullptr));  // names distinct: *_avx2
     r.accuracy = read_accuracy(a.accuracy);
     if (!a.packets.empty()) read_packets(a.packets, r);
     if (!a.tracer.empty()) {

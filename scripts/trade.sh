@@ -100,6 +100,19 @@ t0=$(date +%s)
   --benchmark_out="$OUT/bench.json" --benchmark_out_format=json >"$OUT/bench.log" 2>&1
 echo "   $(( $(date +%s) - t0 )) s"
 
+# The certified lane batches (Aabb, plane) in the AVX2 build, where the compiler made one
+# and the CPU runs it: the batch table's AVX2 rows.
+rm -f "$OUT/batch_avx2.json"
+if avx2_runs rayproof_batch_bench; then
+  echo "== the lane batches in the AVX2 build ($REPS repetitions, median)"
+  t0=$(date +%s)
+  "$B/rayproof_batch_bench_avx2" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
+    --benchmark_enable_random_interleaving=true \
+    --benchmark_min_time="$MIN_TIME" --batch_max="$BATCH_MAX" \
+    --benchmark_out="$OUT/batch_avx2.json" --benchmark_out_format=json >"$OUT/batch_avx2.log" 2>&1
+  echo "   $(( $(date +%s) - t0 )) s"
+fi
+
 echo "== box packets ($REPS repetitions, median)"
 t0=$(date +%s)
 # The AVX2 build where the compiler made one and the CPU runs it, else the default (SSE2).
@@ -240,6 +253,7 @@ fi
 "$B/rayproof_trade_report" --bench "$OUT/bench.json" --counters "$OUT/counters.json" --packets "$OUT/packets.json" \
   --accuracy "$OUT/accuracy_boxes.csv" --accuracy "$OUT/accuracy_sphere.csv" --tracer "$OUT/tracer.txt" \
   $( [ -s "$OUT/audit.md" ] && echo --audit "$OUT/audit.md" ) \
+  $( [ -s "$OUT/batch_avx2.json" ] && echo --batch-avx2 "$OUT/batch_avx2.json" ) \
   --tracer-facts "$OUT/tracer_facts.txt" --render-md "$OUT/render_speed.md" \
   --bvh "$OUT/bvh/scenes.txt" $( [ -s "$OUT/bvh/rays.txt" ] && echo --bvh "$OUT/bvh/rays.txt" ) \
   $( [ -s "$OUT/bvh/rays_avx2.txt" ] && echo --bvh "$OUT/bvh/rays_avx2.txt" ) \
