@@ -227,7 +227,7 @@ template <class E, class B, class T, int W>
 RAYPROOF_ALWAYS_INLINE std::uint32_t bvh_node_filter(const PreparedRay<T>& pr, const AabbPacket<T, W>& b,
                                                      double (&t)[std::size_t(W)]) noexcept {
     using V = simd::Vec<E, W, B>;
-    const packet::Filtered<E, B, T, W> f = packet::filter<E, B, false>(pr, b);
+    const packet::Filtered<E, B, T, W> f = packet::filter<E, B, false, W>(pr, b, 0);
     const V K = V::splat(packet::Bound<E>::K), eta = V::splat(packet::Bound<E>::eta);
     const V bm = abs(f.m) * K + eta, bM = abs(f.M_) * K + eta;
     const V e_lo = max(f.m - bm, V::splat(E(pr.ray().t_min))), x_hi = min(f.M_ + bM, V::splat(E(pr.ray().t_max)));
