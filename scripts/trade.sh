@@ -89,15 +89,22 @@ flags=$(grep 'ray_aabb_bench.cpp' "$OUT/commands.txt" | head -1 | tr ' ' '\n' |
   grep -E '^-(O|f|m|D|std=|W)' | grep -v '^-D.*_HAVE_' | tr '\n' ' ' | sed 's/ $//' || true)
 compiler=$(g++ --version | head -1)
 
+# Runs Google Benchmark program $1 with the report's repetitions into $OUT/$2.json (log
+# $OUT/$2.log), extra flags after. Random interleaving runs the repetitions of all
+# benchmarks in a random order, so that a change of load on a shared machine spreads over
+# every method instead of hitting one.
+timed_run() {
+  local program="$1" name="$2"
+  shift 2
+  "$program" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
+    --benchmark_enable_random_interleaving=true --benchmark_min_time="$MIN_TIME" "$@" \
+    --benchmark_out="$OUT/$name.json" --benchmark_out_format=json >"$OUT/$name.log" 2>&1
+}
+
 if [ "$ONLY" != tracer ]; then
 echo "== timings ($REPS repetitions, median; log: build/bench/trade/bench.log)"
 t0=$(date +%s)
-# Random interleaving runs the repetitions of all benchmarks in a random order, so that a
-# change of load on a shared machine spreads over every method instead of hitting one.
-"$B/rayproof_bench" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
-  --benchmark_enable_random_interleaving=true \
-  --benchmark_min_time="$MIN_TIME" --batch_max="$BATCH_MAX" \
-  --benchmark_out="$OUT/bench.json" --benchmark_out_format=json >"$OUT/bench.log" 2>&1
+timed_run "$B/rayproof_bench" bench --batch_max="$BATCH_MAX"
 echo "   $(( $(date +%s) - t0 )) s"
 
 # The certified lane batches (Aabb, plane) in the AVX2 build, where the compiler made one
@@ -106,10 +113,7 @@ rm -f "$OUT/batch_avx2.json"
 if avx2_runs rayproof_batch_bench; then
   echo "== the lane batches in the AVX2 build ($REPS repetitions, median)"
   t0=$(date +%s)
-  "$B/rayproof_batch_bench_avx2" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
-    --benchmark_enable_random_interleaving=true \
-    --benchmark_min_time="$MIN_TIME" --batch_max="$BATCH_MAX" \
-    --benchmark_out="$OUT/batch_avx2.json" --benchmark_out_format=json >"$OUT/batch_avx2.log" 2>&1
+  timed_run "$B/rayproof_batch_bench_avx2" batch_avx2 --batch_max="$BATCH_MAX"
   echo "   $(( $(date +%s) - t0 )) s"
 fi
 
@@ -120,9 +124,7 @@ packet_bench="$B/rayproof_packet_bench"
 if avx2_runs rayproof_packet_bench; then
   packet_bench="$B/rayproof_packet_bench_avx2"
 fi
-"$packet_bench" --benchmark_repetitions="$REPS" --benchmark_report_aggregates_only=true \
-  --benchmark_enable_random_interleaving=true --benchmark_min_time="$MIN_TIME" \
-  --benchmark_out="$OUT/packets.json" --benchmark_out_format=json >"$OUT/packets.log" 2>&1
+timed_run "$packet_bench" packets
 echo "   $(( $(date +%s) - t0 )) s"
 
 echo "== exact-stage counts"
