@@ -60,7 +60,8 @@
 //            bounds are taken per axis here (lo of each entry, hi of each exit).
 //            certified — the filter: a lane is a proven hit when hi(E) <= lo(X), a proven
 //            miss when lo(E) > hi(X) or a parallel axis has the origin outside (with
-//            t_min and t_max taken into m and M before the bounds: certified_filter_in);
+//            t_min and t_max taken into m and M before the bounds: certified_filter_in;
+//            a double packet of eight in two halves of four, lane for lane the same);
 //            only the lanes it cannot separate, and the lanes where a value or the probe
 //            is not finite (overflow), go to the scalar certified query (ray_aabb.hpp),
 //            one by one. intersect() answers in lanes only the proven misses (their
@@ -395,7 +396,7 @@ RAYPROOF_ALWAYS_INLINE Decided certified_filter_lanes(const PreparedRay<T>& pr, 
 // halves one after the other: each lane's operations are the same, and the filter's
 // dozen live vectors fit the registers (measured, certified verdict, -O2, ns per box
 // test: AVX2 double W = 8, 2.63-2.79 in one pass against 2.31-2.36 in halves; SSE2
-// double W = 8, 14.7 against 3.6; where the values take 32 bytes, halves were 2-5%
+// double W = 8, 14.7 against 3.6; where the values take 32 bytes, halves were 2-6%
 // slower: SSE2 float W = 8, 1.95 against 2.06, and double W = 4, 4.0 against 4.07).
 template <class E, class B, class T, int W>
 RAYPROOF_ALWAYS_INLINE Decided certified_filter_in(const PreparedRay<T>& pr, const AabbPacket<T, W>& b) {
