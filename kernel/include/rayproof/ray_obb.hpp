@@ -194,7 +194,7 @@ public:
             op_[i] = op;
             dp_[i] = dp;
             const int s = dp.certain_sign();
-            sden_[i] = s != 2 ? s : exact_den_sign(i);
+            sden_[i] = s != 2 ? s : this->exact_den_sign(i);
         }
     }
     ObbFrame(const Ray<T>& r, const Obb<T>& b, certified_t) : Source(std::is_same_v<T, float>), r_(&r), b_(&b) {
@@ -216,7 +216,7 @@ public:
             op_[i] = around(op, g4 * so + eta);
             dp_[i] = around(dp, g3 * sd + eta);
             const int s = dp_[i].certain_sign();
-            sden_[i] = s != 2 ? s : exact_den_sign(i);
+            sden_[i] = s != 2 ? s : this->exact_den_sign(i);
         }
     }
     int den_sign(int i) const { return sden_[i]; }
@@ -241,32 +241,11 @@ public:
         return exact_faithful<T>(*this, i, side);
     }
 
-    // The same decisions without the interval filter (the exact stage alone): from the
-    // fixed-size sums where they take the input (ObbQuotients, given or rescaled: signs
-    // unchanged by the scaling), else in an exact type. The origin lies in the closed
-    // slab i when h - o' >= 0 and h + o' >= 0: num(i, 1) >= 0 >= num(i, 0).
+    // The same decision without the interval filter (the exact stage alone), from
+    // AffineSource's exact signs (as exact_den_sign): the origin lies in the closed slab
+    // i when h - o' >= 0 and h + o' >= 0: num(i, 1) >= 0 >= num(i, 0).
     bool inside_parallel_exact(int i) const {
-        const auto inside = [&](const ObbQuotients& q) -> std::optional<bool> {
-            const std::optional<int> above = q.num_sign(i, 1), below = q.num_sign(i, 0);
-            if (!above || !below) return std::nullopt;
-            return *above >= 0 && *below <= 0;
-        };
-        if (const std::optional<bool> in = this->from_sums(inside)) return *in;
-        const double h = b_->half_extent[i];
-        const std::optional<bool> in = with_exact(this->safe(), [&](auto tag) -> std::optional<bool> {
-            using E = typename decltype(tag)::type;
-            const E o = this->given().template oprime<E>(i), eh(h);
-            const E above = eh - o, below = eh + o;
-            if (any_overflowed(above, below)) return std::nullopt;
-            return above.sign() >= 0 && below.sign() >= 0;
-        });
-        return *in;
-    }
-    int exact_den_sign(int i) const {
-        if (const std::optional<int> s = this->from_sums([&](const ObbQuotients& q) { return q.den_sign(i); }))
-            return *s;
-        return detail::exact_sign(this->safe(),
-                                  [&](auto tag) { return this->template den<typename decltype(tag)::type>(i); });
+        return this->exact_num_sign(i, 1) >= 0 && this->exact_num_sign(i, 0) <= 0;
     }
 
 private:

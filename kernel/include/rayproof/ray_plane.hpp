@@ -373,19 +373,10 @@ public:
         if (s != 2) return s == 0;
         return in_plane_exact();
     }
-    // The same decisions without the interval filter (the exact stage alone): from the
-    // fixed-size sums where they take the input (AffineQuotients, given or rescaled:
-    // signs unchanged by the scaling), else in an exact type.
-    int den_sign_exact() const {
-        if (const std::optional<int> s = this->from_sums([](const AffineQuotients<1>& q) { return q.den_sign(0); }))
-            return *s;
-        return exact_sign([&](auto tag) { return this->template den<typename decltype(tag)::type>(0); });
-    }
-    bool in_plane_exact() const {
-        if (const std::optional<int> s = this->from_sums([](const AffineQuotients<1>& q) { return q.num_sign(0, 0); }))
-            return *s == 0;
-        return exact_sign([&](auto tag) { return this->template num<typename decltype(tag)::type>(0, 0); }) == 0;
-    }
+    // The same decisions without the interval filter (the exact stage alone), from
+    // AffineSource's exact signs.
+    int den_sign_exact() const { return this->exact_den_sign(0); }
+    bool in_plane_exact() const { return this->exact_num_sign(0, 0) == 0; }
     Interval<double> enclose() const { return divide_signed(num_, den_, sden_); }
     // t faithfully rounded to T, given its enclosure t (den_sign() != 0), as the
     // straight-line path rounds it: for float by plane_nearest_float first; by plane_pin
@@ -411,7 +402,6 @@ public:
     }
 
 private:
-    template <class F> int exact_sign(F&& value) const { return detail::exact_sign(this->safe(), value); }
     AffineValues<1> affine_values() const { return plane_values(*r_, *p_); }
     const Ray<T>* r_;
     const Plane<T>* p_;

@@ -254,12 +254,26 @@ public:
         }
         return scaled_;
     }
+    // The exact signs of den(i) and num(i, side) without the interval filter: from the
+    // fixed-size sums on the given input, else on the rescaled one (signs unchanged by
+    // the scaling), else in an exact type.
+    int exact_den_sign(int i) const {
+        if (const std::optional<int> s = from_sums([&](const AffineQuotients<R>& q) { return q.den_sign(i); }))
+            return *s;
+        return exact_sign(safe(), [&](auto tag) { return den<typename decltype(tag)::type>(i); });
+    }
+    int exact_num_sign(int i, int side) const {
+        if (const std::optional<int> s = from_sums([&](const AffineQuotients<R>& q) { return q.num_sign(i, side); }))
+            return *s;
+        return exact_sign(safe(), [&](auto tag) { return num<typename decltype(tag)::type>(i, side); });
+    }
 
 protected:
     explicit AffineSource(bool floats) : floats_(floats) {}
+
+private:
     // What decide(q) answers (an optional) on the given quotients, else on the rescaled
-    // ones when the given are not safe; nullopt where neither decides. For the signs of
-    // num and den (num_sign, den_sign), which the scaling leaves unchanged.
+    // ones when the given are not safe; nullopt where neither decides.
     template <class Decide> auto from_sums(Decide&& decide) const -> decltype(decide(std::declval<const AffineQuotients<R>&>())) {
         if (auto x = decide(given())) return x;
         if (!safe() && scaled()) return decide(*scaled());
@@ -269,8 +283,6 @@ protected:
         if (!given_) given_.emplace(values(), floats_);
         return *given_;
     }
-
-private:
     AffineValues<R> values() const { return static_cast<const Frame&>(*this).affine_values(); }
     mutable std::optional<AffineQuotients<R>> given_, scaled_;
     mutable bool scaled_made_ = false;
