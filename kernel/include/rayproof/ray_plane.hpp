@@ -16,11 +16,13 @@
 //            num and den in plain double with the static bounds gamma(4)·Σ|terms| of
 //            the certified filter, t~ = fl(num·fl(1/den)) widened by a bound derived
 //            from them (at the code), when den is far from its bound (|den| >= 2^20
-//            times it). Otherwise (parallel and nearly parallel rays, overflow): num and
-//            den in interval arithmetic with outward rounding (in double for both
-//            scalar types); the sign of den, and whether a parallel ray lies in the
-//            plane, are decided exactly when the intervals hold zero; t is the interval
-//            quotient, unbounded on one side when |den| may be tiny.
+//            times it); for float input the same in float first (|den| >= 2^10 times
+//            its bound), which answers where it lies inside or outside [t_min, t_max]
+//            (else the double one). Otherwise (parallel and nearly parallel rays,
+//            overflow): num and den in interval arithmetic with outward rounding (in
+//            double for both scalar types); the sign of den, and whether a parallel ray
+//            lies in the plane, are decided exactly when the intervals hold zero; t is
+//            the interval quotient, unbounded on one side when |den| may be tiny.
 //            certified — for float input, the conservative enclosure first: it decides
 //            the verdict where it lies inside or outside [t_min, t_max], and gives t
 //            rounded to the nearest float where both its ends round to one
@@ -249,8 +251,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>&
 
 // An enclosure of t in the pbrt-v4 manner (plane_sums, plane_enclosure; the conservative
 // answer's, and the certified float answer's): t~ = fl(N~·fl(1/D~)) from one plain
-// evaluation of N = offset - n·o and D = n·d in double, widened by a bound E derived
-// for it.
+// evaluation of N = offset - n·o and D = n·d in double (and for the conservative float
+// answer first in float, below), widened by a bound E derived for it.
 // N~ and D~ are computed as in plane_verdict_common (-N~ = ((-offset + p_0) + p_1) + p_2,
 // D~ = (p_0' + p_1') + p_2', p_j = fl(n_j o_j), p_j' = fl(n_j d_j)), with the bounds
 // e = fl(fl(K·S~) + eta), K = gamma(4), S~ the same sums of the |terms|, eta = 2^-1022:
@@ -288,36 +290,58 @@ template <class T> RAYPROOF_ALWAYS_INLINE int plane_verdict_common(const Ray<T>&
 // |n_j o_j| finite, hence offset and o finite. So an invalid input never answers here:
 // it goes to plane_conservative_general, which checks the rules in full, and the
 // certified query to its double-word path.
+// For float input the conservative answer runs the same operations in float first
+// (plane_sums<float>, plane_enclosure<float>: no conversion, and a float division), with
+// u = 2^-24, eta = 2^-126, K = gamma(5) and the check e_D <= 2^-10|D~| (PlaneBounds).
+// The products n_j·o_j are rounded now, and underflow (by at most 2^-150 each): each
+// term of N~ has at most four roundings, so |N~ - N| <= gamma(4)·S + 2^-148 with S the
+// exact sum of the |terms|, and S~ >= (1 - u)^4·S - 2^-148; e_N = fl(fl(K·S~) + eta) >=
+// (1 - u)^6·K·S + (1 - u)·eta - 2^-147 > gamma(4)·S + 2^-148, so |N~ - N| <= e_N, and
+// |D~ - D| <= e_D likewise. With e_D <= 2^-10|D~| and q = N~/D~,
+//     |t - q| <= (e_N + |q|·e_D)/((1 - 2^-10)|D~|),  |t~ - q| <= 2.01u|q| + 2^-150,
+// and |q| <= (1 + 2.01u)|t~| + 2^-149, |inv| >= (1 - u)/|D~|, e_D·|inv| normal (as
+// above) and below 2^-9.9: |t - t~| <= 1.0011·B + 2^-149, B = e_N·|inv| + |t~|·(e_D·|inv|
+// + 2.01u). The computed E >= 2(1 - u)^5·B + (1 - u)·eta - 2^-148 (five roundings, two
+// products' underflow), which exceeds it by 0.99·B + 0.99·eta >= 1.99u|t~| + 0.99·eta,
+// more than the roundings of t~ ∓ E (at most u(|t~| + E)). So [fl(t~ - E), fl(t~ + E)]
+// holds t here too, and the checks prove the same validity rules.
 // Products: the bound's are rounded() (class C3), so that whether E is finite and the
 // enclosure's ends are the same bits wherever the query is inlined (the certified float
-// path below decides from them); the n_j·o_j and n_j·d_j are exact for float input
-// (24-bit factors) and class C1 for double.
-struct PlaneSums {
-    double num, den, en, ed;  // N~, D~, e_N, e_D
+// path below decides from the double enclosure); the n_j·o_j and n_j·d_j are exact for
+// float input in double (24-bit factors) and class C1 otherwise.
+template <class C> struct PlaneBounds;  // the constants of the enclosure computed in C
+template <> struct PlaneBounds<double> {
+    static constexpr double K = gamma<double>(4), ratio = 0x1p-20;
 };
-template <class T> RAYPROOF_ALWAYS_INLINE PlaneSums plane_sums(const Ray<T>& r, const Plane<T>& p) {
-    constexpr double K = gamma<double>(4), eta = 0x1p-1022;
-    const double n0 = p.normal[0], n1 = p.normal[1], n2 = p.normal[2], f = p.offset;
-    const double po0 = n0 * double(r.origin[0]), po1 = n1 * double(r.origin[1]), po2 = n2 * double(r.origin[2]);
-    const double pd0 = n0 * double(r.direction[0]), pd1 = n1 * double(r.direction[1]),
-                 pd2 = n2 * double(r.direction[2]);
-    const double num = -(((-f + po0) + po1) + po2), den = (pd0 + pd1) + pd2;
-    const double sn = ((std::abs(f) + std::abs(po0)) + std::abs(po1)) + std::abs(po2);
-    const double sd = (std::abs(pd0) + std::abs(pd1)) + std::abs(pd2);
+template <> struct PlaneBounds<float> {
+    static constexpr float K = gamma<float>(5), ratio = 0x1p-10f;
+};
+template <class C> struct PlaneSums {
+    C num, den, en, ed;  // N~, D~, e_N, e_D
+};
+template <class C, class T> RAYPROOF_ALWAYS_INLINE PlaneSums<C> plane_sums(const Ray<T>& r, const Plane<T>& p) {
+    static_assert(sizeof(C) >= sizeof(T), "the sums are computed in T or wider");
+    constexpr C K = PlaneBounds<C>::K, eta = std::numeric_limits<C>::min();
+    const C n0 = p.normal[0], n1 = p.normal[1], n2 = p.normal[2], f = p.offset;
+    const C po0 = n0 * C(r.origin[0]), po1 = n1 * C(r.origin[1]), po2 = n2 * C(r.origin[2]);
+    const C pd0 = n0 * C(r.direction[0]), pd1 = n1 * C(r.direction[1]), pd2 = n2 * C(r.direction[2]);
+    const C num = -(((-f + po0) + po1) + po2), den = (pd0 + pd1) + pd2;
+    const C sn = ((std::abs(f) + std::abs(po0)) + std::abs(po1)) + std::abs(po2);
+    const C sd = (std::abs(pd0) + std::abs(pd1)) + std::abs(pd2);
     return {num, den, rounded(K * sn) + eta, rounded(K * sd) + eta};
 }
-struct PlaneEnclosure {
-    double lo, hi;     // [fl(t~ - E), fl(t~ + E)], which holds t when ok
-    bool ok;           // E finite, e_D <= 2^-20|D~|, |inv| in [2^-1022, max]
+template <class C> struct PlaneEnclosure {
+    C lo, hi;  // [fl(t~ - E), fl(t~ + E)], which holds t when ok
+    bool ok;   // E finite, e_D <= ratio·|D~|, |inv| in [eta, max]
 };
-RAYPROOF_ALWAYS_INLINE PlaneEnclosure plane_enclosure(const PlaneSums& x) {
-    constexpr double eta = 0x1p-1022, u = unit_roundoff<double>, big = std::numeric_limits<double>::max();
-    const double inv = 1 / x.den, ai = std::abs(inv);
-    const double t = rounded(x.num * inv);
-    const double rel = rounded(x.ed * ai) + 3 * u;  // D~'s relative error (never subnormal), t~'s roundings
-    const double bound = 2 * (rounded(x.en * ai) + rounded(std::abs(t) * rel)) + eta;
-    const bool ok = int(x.ed <= 0x1p-20 * std::abs(x.den)) & int(ai >= std::numeric_limits<double>::min()) &
-                    int(ai <= big) & int(bound <= big);  // false for NaN; a finite bound needs a finite t
+template <class C> RAYPROOF_ALWAYS_INLINE PlaneEnclosure<C> plane_enclosure(const PlaneSums<C>& x) {
+    constexpr C eta = std::numeric_limits<C>::min(), u = unit_roundoff<C>, big = std::numeric_limits<C>::max();
+    const C inv = 1 / x.den, ai = std::abs(inv);
+    const C t = rounded(x.num * inv);
+    const C rel = rounded(x.ed * ai) + 3 * u;  // D~'s relative error (never subnormal), t~'s roundings
+    const C bound = 2 * (rounded(x.en * ai) + rounded(std::abs(t) * rel)) + eta;
+    const bool ok = int(x.ed <= PlaneBounds<C>::ratio * std::abs(x.den)) & int(ai >= eta) & int(ai <= big) &
+                    int(bound <= big);  // false for NaN; a finite bound needs a finite t
     return {rounded(t - bound), rounded(t + bound), ok};
 }
 
@@ -326,7 +350,7 @@ RAYPROOF_ALWAYS_INLINE PlaneEnclosure plane_enclosure(const PlaneSums& x) {
 // rounded() (plane_sums, plane_enclosure), so whether it answers is the same wherever it
 // is inlined; the general path tries it first too (PlaneCrossing::faithful), so the two
 // paths answer alike bit for bit.
-RAYPROOF_ALWAYS_INLINE Pinned<float> plane_nearest_float(const PlaneEnclosure& e) {
+RAYPROOF_ALWAYS_INLINE Pinned<float> plane_nearest_float(const PlaneEnclosure<double>& e) {
     return nearest_float(e.lo, e.hi, e.ok);
 }
 
@@ -385,7 +409,7 @@ public:
     // (went_exact is then set).
     T faithful(const Interval<double>& t, bool& went_exact) const {
         if constexpr (std::is_same_v<T, float>) {
-            const Pinned<float> f = plane_nearest_float(plane_enclosure(plane_sums(*r_, *p_)));
+            const Pinned<float> f = plane_nearest_float(plane_enclosure(plane_sums<double>(*r_, *p_)));
             if (f.ok) return f.t;
         }
         return faithful_after_nearest(t, went_exact);
@@ -441,12 +465,24 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_conservative_genera
     return h;
 }
 
-// The conservative answer: the enclosure (plane_enclosure) rounded outward to T and
-// clamped to [t_min, t_max] (outward_to), its verdict decided on the enclosure itself.
-// What the enclosure's checks exclude goes to plane_conservative_general.
+// The conservative answer: the enclosure (plane_enclosure) in double, clamped to [t_min,
+// t_max] and rounded outward to T (outward_to), its verdict decided on the enclosure
+// itself. For float input the enclosure in float first, which answers where it lies
+// inside [t_min, t_max] (a hit, its ends t_enter and t_exit) or outside it (a miss); one
+// that straddles t_min or t_max (t within some float steps of it, more on
+// ill-conditioned input: float's bound is some 2^29 times double's) goes on to the
+// double enclosure, so that the float path makes no false hit the double one would not.
+// What the enclosures' checks exclude goes to plane_conservative_general.
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray<T>& r, const Plane<T>& p) {
-    const PlaneEnclosure e = plane_enclosure(plane_sums(r, p));
+    if constexpr (std::is_same_v<T, float>) {
+        const PlaneEnclosure<float> e = plane_enclosure(plane_sums<float>(r, p));
+        const bool inside = int(e.lo >= r.t_min) & int(e.hi <= r.t_max),
+                   outside = int(e.hi < r.t_min) | int(e.lo > r.t_max);
+        if (int(e.ok) & int(valid_range(r)) & (int(inside) | int(outside))) [[likely]]
+            return hit_when(inside, e.lo, e.hi);
+    }
+    const PlaneEnclosure<double> e = plane_enclosure(plane_sums<double>(r, p));
     if (!(int(e.ok) & int(valid_range(r)))) [[unlikely]]
         return std::nullopt;
     const OutwardEnds<T> ends = outward_to<T>(e.lo, e.hi, r.t_min, r.t_max);
@@ -530,7 +566,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_certified_common(const Ray<T>
         // input valid but for t_min and t_max (rest_valid).
         // One branch, on whether it decided (nearly always); hit or miss is chosen
         // without a jump (hit_when: a coin toss on random rays).
-        const PlaneEnclosure e = plane_enclosure(plane_sums(r, p));
+        const PlaneEnclosure<double> e = plane_enclosure(plane_sums<double>(r, p));
         nearest = plane_nearest_float(e);
         const bool inside = int(e.lo >= lo) & int(e.hi <= hi) & int(nearest.ok),
                    outside = int(e.hi < lo) | int(e.lo > hi);

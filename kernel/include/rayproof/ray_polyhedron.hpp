@@ -329,7 +329,7 @@ T poly_faithful(const Ray<T>& r, const Plane<T>& p, const PolySource<T>& src, co
         }
     }
     if constexpr (std::is_same_v<T, float>)
-        if (const Pinned<float> f = plane_nearest_float(plane_enclosure(plane_sums(r, p))); f.ok) return f.t;
+        if (const Pinned<float> f = plane_nearest_float(plane_enclosure(plane_sums<double>(r, p))); f.ok) return f.t;
     return PlaneCrossing<T>(r, p).faithful_after_nearest(v, went_exact);
 }
 
