@@ -388,11 +388,11 @@ private:
     // for |x| > 2^-1021: the origin is at least the underflow floor 2^-60·|d|_inf past
     // the face, so |x| >= 2^-60 and K = 0 still holds.
     // Obb, conservative: each slab value is widened to fl(t~ ± E), E = 2·B0 + 2^-1022
-    // with B0 = (eo + |num~|(u + ed·|inv|))·|inv| + 3u|t~| and |t - t~| <= (1 + 2^-18)·B0
+    // with B0 = eo·|inv| + |t~|·(ed·|inv| + 5u) and |t - t~| <= (1 + 2^-18)·B0 + 2^-1074
     // (ray_obb.hpp, obb_conservative_common), so the upper end is at most t + 3.01·B0 +
-    // 3·2^-1022. For a ray leaving the face at distance δ, t = -δ|a|/|d'|, |num| =
-    // δ|a|, ed·|inv| <= 2^-20 and eo <= 8u(1 + 10u)·Σ_j|a_j Δ_j| + 2^-1021: the end is
-    // negative when δ|a|(1 - 3.01·2^-20 - 14u) > 24.1u·Σ + 2^-1019·(1 + |d'|), which
+    // 3·2^-1022. For a ray leaving the face at distance δ, t = -δ|a|/|d'|, |t~| <= (1 +
+    // 3u)|t|, ed·|inv| <= 2^-20 and eo <= 8u(1 + 10u)·Σ_j|a_j Δ_j| + 2^-1021: the end is
+    // negative when δ|a|(1 - 3.01·2^-20 - 16u) > 24.1u·Σ + 2^-1019·(1 + |d'|), which
     // δ >= gamma(25)·Σ/|a| gives with 0.9u·Σ/|a| to spare for the absolute terms (for
     // Σ >= 2^-960·(1 + |d'|)).
     static double margin(const Aabb<double>&, int, const Vec3d&) { return 0; }

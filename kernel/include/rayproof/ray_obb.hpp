@@ -22,7 +22,9 @@
 //            the bound the certified path derives for it (static gamma(n) bounds of the
 //            frame, then of the quotient), the latest lower bound of an entry and the
 //            earliest upper bound of an exit taken, while every slab is far from
-//            parallel to the ray (|d'_i| >= 2^20 times its bound). Otherwise: o'_i, d'_i
+//            parallel to the ray (|d'_i| >= 2^20 times its bound). For float input the
+//            same in float first, one bound per axis, answering where it decides the
+//            verdict with room to spare (else the double one). Otherwise: o'_i, d'_i
 //            and the slab values are evaluated in interval
 //            arithmetic with outward rounding (detail/interval.hpp), in double for both
 //            scalar types; the exact sign of d'_i is used when its interval holds 0 (a
@@ -270,56 +272,115 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> obb_conservative_general(
     return slab_conservative(ObbFrame<T>(r, b), r.t_min, r.t_max);
 }
 
-// The conservative answer in the pbrt-v4 manner: the change of frame and the slab
-// values in plain double (for both scalar types), each slab value t~ widened by the
-// bound E derived at obb_certified_common (o'_i and d'_i within eo_i = 2·gamma(4)·Σ|a_ji
-// Δ~_j| + 2^-1022 and ed_i = 2·gamma(3)·Σ|a_ji d_j| + 2^-1022, the derivation at
-// ObbFrame's certified constructor; then E = 2·((eo + |num~|(u + ed·|inv|))·|inv| +
-// 3u|t~|) + 2^-1022 >= |t - t~| while ed_i <= 2^-20|d'_i~|, which also makes the sign of
-// d'_i, and so the side entered, certain). The doubling leaves more than u(|t~| + E)
-// to spare, so fl(t~ - E) and fl(t~ + E) are a lower and an upper bound of t.
+// The conservative answer in the pbrt-v4 manner (obb_enclosure): the change of frame and
+// the slab values in plain arithmetic, in double for double input, each slab value t~
+// widened by a bound E derived from the one at obb_certified_common: o'_i and d'_i within
+// eo_i = 2·gamma(4)·Σ|a_ji Δ~_j| + eta and ed_i = 2·gamma(3)·Σ|a_ji d_j| + eta (the
+// derivation at ObbFrame's certified constructor, eta = 2^-1022), and while ed_i <=
+// 2^-20|d'_i~| (which also makes the sign of d'_i, and so the side entered, certain),
+//     |t - t~| <= (1 + 2^-19)(eo + |num~|(u + ed·|inv|(1 + 2u)))·|inv| + 3u|t~|
+//              <= (1 + 2^-18)·B + 2^-1074,   B = eo·|inv| + |t~|·(ed·|inv| + 5u),
+// as |num~|·|inv| <= (|t~| + 2^-1075)/(1 - u) (t~ = fl(num~·inv)). The code takes E =
+// 2·(eo·|inv| + |t~|·(ed·|inv| + 5u)) + eta, each value's own: five roundings leave E >=
+// 2(1 - u)^5·B + (1 - u)·eta - 2^-1074 (ed·|inv| is normal, as the plane's e_D·|inv|),
+// more than |t - t~| + u(|t~| + E) (B >= 5u|t~|), so fl(t~ - E) and fl(t~ + E) are a
+// lower and an upper bound of t. The side entered is picked first (a pick: no jump on a
+// coin toss) and the bound computed for the two values kept, the entry and the exit.
+// For float input the same in float first (no conversion; float's u = 2^-24, eta =
+// 2^-126, a float product's underflow at most 2^-150, Δ~_j = fl(o_j - c_j) rounded as
+// double input's is: the frame's derivation holds as written), with the check ed_i <=
+// 2^-10|d'_i~| (the factor (1 + 2^-19) above becomes 1/((1 - 2^-10)(1 - u)) < 1.0011)
+// and one bound per axis for its two values: m = fl(h_i + |o'_i~|) is at least |num~| of
+// either side (|±h_i - o'_i~| <= h_i + |o'_i~|, and rounding is monotone), so |t~| <= (1 +
+// u)·m·|inv| for both, and E = 2·((eo + m·(ed·|inv| + 5u))·|inv|) + eta covers both
+// values' bounds as above. That enclosure answers a miss where its entry bound lies
+// above its exit bound (certain: they bound the exact entry from below and the exact
+// exit from above), and a hit where fl(exit bound - entry bound) >= fl(5·E_max), finite,
+// E_max the largest bound: the exact entry is below the entry bound plus 2·E_max, the
+// exact exit above the exit bound less 2·E_max, and the two bounds lie more than 4·E_max
+// apart (the difference, if it overflows, more than the largest float), so the exact
+// answer hits too. The rest (near a graze, where float's bounds, some 2^29 times
+// double's, would add false hits) goes on to the double enclosure: every hit of the
+// float path is a hit of the double one. Its ends are wider (a few float steps, more for
+// slabs nearly parallel to the ray).
 // The exact entry is max(t_min, max_i t_in_i) and each exact t_in_i lies above its
 // fl(t~ - E): the largest of these lower bounds (and t_min) is a lower bound of the
 // entry; likewise the smallest of the upper bounds of the exits (and t_max) is an upper
 // bound of the exit. So a hit of the exact answer is a hit here and [t_enter, t_exit]
 // encloses it. face is the axis of the largest lower bound (the mode may differ on
 // ties).
-// Range: every |fl(1/d'_i)| normal (>= 2^-1022; ed_i <= 2^-20|d'_i~| keeps it finite,
-// ed_i >= 2^-1022) and every bound finite, else obb_conservative_general.
+// Range: every |fl(1/d'_i)| normal (>= eta; the ratio check keeps it finite, ed_i >=
+// eta) and every bound finite, else obb_conservative_general.
 // Contraction (detail/eft.hpp): class C1, as obb_certified_common's bounds.
-template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_conservative_common(const Ray<T>& r, const Obb<T>& b) {
-    constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022, u = unit_roundoff<double>;
-    double oc[3], d[3];
+template <class C> struct ObbBounds;  // the constants of the enclosures computed in C
+template <> struct ObbBounds<double> {
+    static constexpr double ratio = 0x1p-20;
+};
+template <> struct ObbBounds<float> {
+    static constexpr float ratio = 0x1p-10f;
+};
+template <class C> struct ObbEnclosure {
+    C lo, hi;  // a lower bound of the exact entry, an upper bound of the exact exit
+    C e_max;   // the largest bound E of the slab values (float only; 0 in double)
+    int face;  // the axis and side of the largest lower bound
+    bool ok;   // every slab value's bound holds (finite, its slab not nearly parallel)
+};
+template <class C, class T>
+RAYPROOF_ALWAYS_INLINE ObbEnclosure<C> obb_enclosure(const Ray<T>& r, const Obb<T>& b) {
+    static_assert(sizeof(C) >= sizeof(T), "the frame is computed in T or wider");
+    constexpr C g4 = 2 * gamma<C>(4), g3 = 2 * gamma<C>(3), eta = std::numeric_limits<C>::min(),
+                u = unit_roundoff<C>, ratio = ObbBounds<C>::ratio;
+    C oc[3], d[3];
     RAYPROOF_UNROLL3
     for (int j = 0; j < 3; ++j) {
-        oc[j] = double(r.origin[j]) - double(b.center[j]);
-        d[j] = double(r.direction[j]);
+        oc[j] = C(r.origin[j]) - C(b.center[j]);
+        d[j] = C(r.direction[j]);
     }
-    double lo = double(r.t_min), hi = double(r.t_max), probe = 0;
+    C lo = C(r.t_min), hi = C(r.t_max), probe = 0, e_max = 0;
     int face = -1, ok = 1;
     RAYPROOF_UNROLL3
     for (int i = 0; i < 3; ++i) {
-        const double a0 = b.axes(0, i), a1 = b.axes(1, i), a2 = b.axes(2, i);
-        const double x0 = a0 * oc[0], x1 = a1 * oc[1], x2 = a2 * oc[2], y0 = a0 * d[0], y1 = a1 * d[1], y2 = a2 * d[2];
-        const double op = (x0 + x1) + x2, dp = (y0 + y1) + y2;
-        const double eo = g4 * ((std::abs(x0) + std::abs(x1)) + std::abs(x2)) + eta,
-                     ed = g3 * ((std::abs(y0) + std::abs(y1)) + std::abs(y2)) + eta;
-        const double h = b.half_extent[i], inv = 1 / dp, ai = std::abs(inv);
-        ok &= int(ed <= 0x1p-20 * std::abs(dp)) & int(ai >= eta);
-        const double n0 = -h - op, n1 = h - op, t0 = n0 * inv, t1 = n1 * inv;  // sides 0 and 1
-        const double k = u + ed * ai;
-        const double e0 = 2 * ((eo + std::abs(n0) * k) * ai + 3 * u * std::abs(t0)) + eta,
-                     e1 = 2 * ((eo + std::abs(n1) * k) * ai + 3 * u * std::abs(t1)) + eta;
-        const bool neg = dp < 0;  // side 1 is entered (pick: no jump on a coin toss)
-        const double in_lo = pick(neg, t1 - e1, t0 - e0), out_hi = pick(neg, t0 + e0, t1 + e1);
+        const C a0 = b.axes(0, i), a1 = b.axes(1, i), a2 = b.axes(2, i);
+        const C x0 = a0 * oc[0], x1 = a1 * oc[1], x2 = a2 * oc[2], y0 = a0 * d[0], y1 = a1 * d[1], y2 = a2 * d[2];
+        const C op = (x0 + x1) + x2, dp = (y0 + y1) + y2;
+        const C eo = g4 * ((std::abs(x0) + std::abs(x1)) + std::abs(x2)) + eta,
+                ed = g3 * ((std::abs(y0) + std::abs(y1)) + std::abs(y2)) + eta;
+        const C h = b.half_extent[i], inv = 1 / dp, ai = std::abs(inv);
+        ok &= int(ed <= ratio * std::abs(dp)) & int(ai >= eta);
+        const C t0 = (-h - op) * inv, t1 = (h - op) * inv;  // sides 0 and 1
+        const bool neg = dp < 0;                             // side 1 is entered
+        const C t_in = pick(neg, t1, t0), t_out = pick(neg, t0, t1);  // no jump on a coin toss
+        const C k = ed * ai + 5 * u;
+        C in_lo, out_hi;
+        if constexpr (std::is_same_v<C, float>) {
+            const C e = 2 * ((eo + (h + std::abs(op)) * k) * ai) + eta;
+            in_lo = t_in - e;
+            out_hi = t_out + e;
+            e_max = e > e_max ? e : e_max;
+        } else {
+            const C w = eo * ai;
+            in_lo = t_in - (2 * (w + std::abs(t_in) * k) + eta);
+            out_hi = t_out + (2 * (w + std::abs(t_out) * k) + eta);
+        }
         probe += (in_lo - in_lo) + (out_hi - out_hi);
         face = pick_int(in_lo > lo, 2 * i + int(neg), face);
         lo = in_lo > lo ? in_lo : lo;
         hi = out_hi < hi ? out_hi : hi;
     }
-    if (!(ok & int(probe == 0))) [[unlikely]]
+    return {lo, hi, e_max, face, bool(ok & int(probe == 0))};
+}
+template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_conservative_common(const Ray<T>& r, const Obb<T>& b) {
+    if constexpr (std::is_same_v<T, float>) {
+        const ObbEnclosure<float> f = obb_enclosure<float>(r, b);
+        const float gap = 5 * f.e_max;
+        const bool miss = f.lo > f.hi, hit = int(f.hi - f.lo >= gap) & int(gap <= std::numeric_limits<float>::max());
+        if (int(f.ok) & (int(hit) | int(miss))) [[likely]]
+            return hit_when(hit, f.lo, f.hi, f.face);
+    }
+    const ObbEnclosure<double> e = obb_enclosure<double>(r, b);
+    if (!e.ok) [[unlikely]]
         return std::nullopt;
-    return hit_when(lo <= hi, round_down_to<T>(lo), round_up_to<T>(hi), face);
+    return hit_when(e.lo <= e.hi, round_down_to<T>(e.lo), round_up_to<T>(e.hi), e.face);
 }
 
 template <class R, class T>
