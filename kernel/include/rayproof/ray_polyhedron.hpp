@@ -30,12 +30,15 @@
 //            eN, |D~ - D| < eD (e = fl(fl(gamma(5)·S~) + 2^-1022), S~ the same sum of
 //            absolute values; derivation at poly_crossing); the sign of den, and the
 //            origin's side for a parallel plane (den == 0 exactly), are certain from the
-//            bounds or decided exactly; each crossing is enclosed around q = fl(N~/D~) by a
-//            derived bound (crossing_enclosure), or, when den is within twice its bound
-//            of 0, by the outward-rounded quotient of the two enclosures (unbounded on one
-//            side then), and within 32 times its bound by the intersection of the two
-//            (crossing_enclosure_conservative: a ray leaving a face from gamma(22)·S of
-//            it is answered miss on it however grazing, poly_leaving_margin);
+//            bounds or decided exactly; each crossing is enclosed around q =
+//            fl(N~·fl(1/D~)) by a derived bound, its ends rounded to nearest, where den
+//            is more than 32 times its bound (crossing_enclosure_quick: one division),
+//            else around q = fl(N~/D~) with outward steps (crossing_enclosure), or,
+//            when den is within twice its bound of 0, by the outward-rounded quotient
+//            of the two enclosures (unbounded on one side then), and within 32 times its
+//            bound by the intersection of the two (crossing_enclosure_conservative: a
+//            ray leaving a face from gamma(22)·S of it is answered miss on it however
+//            grazing, poly_leaving_margin);
 //            [t_enter, t_exit] = [largest entry lower bound, smallest exit upper bound],
 //            which encloses the exact interval, so the verdict can only err towards hit.
 //            certified — crossing_enclosure's intervals filter each comparison of the
@@ -145,7 +148,8 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
 // on any term (Higham, ASNA, Lemma 3.1), so |N~ - N| <= gamma(4)·S_N + 3·2^-1075·(1 +
 // gamma(3)), S_N = |offset| + Σ|n_j o_j|; in D~ the first sum 0 + p_0 is exact, so at
 // most 3: |D~ - D| <= gamma(3)·S_D + 3·2^-1075·(1 + gamma(2)), S_D = Σ|n_j d_j|.
-// S~ (the same sums of |n_j|·|o_j|, nonnegative terms, rounded alike) is at least
+// S~ (the same sums of |p_j| = fl(|n_j|·|o_j|), rounding being symmetric: nonnegative
+// terms, rounded alike) is at least
 // S(1 - gamma(5)) - 2^-1073. The bound is e = fl(fl(K·S~) + eta) with K = fl(gamma(5))
 // and eta = 2^-1022:
 //     e >= ((gamma(5)(1 - u)·S~)(1 - u) + eta)(1 - u)
@@ -164,11 +168,11 @@ template <class T> RAYPROOF_ALWAYS_INLINE PolyCrossing poly_crossing(const Ray<T
     constexpr double K = gamma<double>(5), eta = 0x1p-1022, big = std::numeric_limits<double>::max();
     double N = double(p.offset), SN = std::abs(N), D = 0, SD = 0;
     for (int j = 0; j < 3; ++j) {
-        const double n = double(p.normal[j]), o = double(r.origin[j]), d = double(r.direction[j]);
-        N = N - n * o;
-        D = D + n * d;
-        SN = SN + std::abs(n) * std::abs(o);
-        SD = SD + std::abs(n) * std::abs(d);
+        const double n = double(p.normal[j]), no = n * double(r.origin[j]), nd = n * double(r.direction[j]);
+        N = N - no;
+        D = D + nd;
+        SN = SN + std::abs(no);  // fl(|n|·|o|) = |fl(n·o)|: rounding is symmetric
+        SD = SD + std::abs(nd);
     }
     const double eN = K * SN + eta, eD = K * SD + eta;
     return {N, D, eN, eD, eN <= big, eD <= big};
@@ -209,7 +213,20 @@ inline Interval<double> crossing_enclosure(const PolyCrossing& c, int s) {
     return divide_signed(around(c.N, c.eN, c.finite_N), around(c.D, c.eD, c.finite_D), s);
 }
 
-// Conservative mode's enclosure of the crossing: crossing_enclosure's, and where 2·eD <
+// Conservative mode's enclosure of the crossing where |D~| > 32·eD (nearly every plane
+// on general input: crossing_enclosure_quick), with one division and no stepping: with
+// inv = fl(1/D~) normal (checked) and q = fl(N~·inv), |q - N~/D~| <= 2.01u·r + 2^-1075
+// (r = |N~/D~|), and as at crossing_enclosure |t - N~/D~| < 2(eN + r·eD)/|D~|, where
+// 1/|D~| <= |inv|/(1 - u) and r <= (1 + 2.01u)|q| + 2^-1073. The code takes E =
+// fl(fl(3·X) + 2^-1019), X = fl(fl(eN + fl(|q|·eD))·|inv|): after its five roundings 3X
+// exceeds 2(1 + 3.02u)(eN + |q|·eD)·|inv| by 0.99·(eN + |q|·eD)·|inv| at least, and since
+// |N~| <= (1 + 8u)·S~ (the same terms, three roundings each way) eN >= 4.9u·|N~|, so
+// that excess is at least 4.8u|q|: more than 2.01u·r, the roundings of q ∓ E (u(|q| +
+// E)) and E's own; 2^-1019 covers every absolute term (a few 2^-1073). So [fl(q - E),
+// fl(q + E)] holds t. A bound not finite, |inv| not normal or E not finite goes to the
+// stepped enclosures.
+// Contraction (detail/eft.hpp): class C1, a fused step has fewer roundings.
+// Otherwise (crossing_enclosure_conservative): crossing_enclosure's, and where 2·eD <
 // |D~| <= 32·eD (below, crossing_enclosure is that quotient already) also the
 // outward-rounded quotient of the two enclosures (divide_signed), their intersection
 // (both enclose t). Near 0 the derived bound alone is wide: E >=
@@ -227,12 +244,15 @@ inline Interval<double> crossing_enclosure(const PolyCrossing& c, int s) {
 // ray's origin off a conservative polyhedron's face. With |N~ - N| < eN, eN <=
 // gamma(5)(1 + 8u)·S + 2^-1022(1 + u) (three roundings, and the computed S~ exceeds S by
 // at most gamma(5)·S):
-//   |D~| > 32·eD: the upper end fl_up(q + E) is below 0 when q + E < -2^-1074. E <=
-//     3(1 + 6u)(eN + |q|·eD)/|D~| + 2^-51(1 + 2u)|q| + 2^-1020(1 + u), and eD/|D~| <
-//     1/32, so it suffices that |q|(1 - 3/32 - 2^-50) > 3(1 + 6u)·eN/|D~| + 2^-1019,
-//     with |q| >= (1 - u)|N~|/|D~| and |N~| >= g - eN: g > 4.3104·eN + 2^-1018·|D~|,
-//     which gamma(22)·S gives: 4.3104·gamma(5)(1 + 8u) < 21.56u < gamma(22) - 0.44u,
-//     and 0.44u·S covers the absolute terms for S >= 2^-960(1 + |D|).
+//   |D~| > 32·eD: the upper end fl(q + E) (crossing_enclosure_quick) is below 0 when q +
+//     E < -2^-1075. E <= 3(1 + 8u)(eN + |q|·eD)/|D~| + 2^-1019(1 + u), and eD/|D~| <
+//     1/32, so it suffices that |q|(1 - 3(1 + 8u)/32) > 3(1 + 8u)·eN/|D~| + 2^-1018,
+//     with |q| >= (1 - 2u)|N~|/|D~| - 2^-1075 and |N~| >= g - eN: g > 4.3104·eN
+//     + 2^-1017·|D~|, which gamma(22)·S gives: 4.3104·gamma(5)(1 + 8u) < 21.56u <
+//     gamma(22) - 0.44u, and 0.44u·S covers the absolute terms for S >= 2^-960(1 + |D|).
+//     Where the quick enclosure declines, crossing_enclosure's end fl_up(q + E), q =
+//     fl(N~/D~), is below 0 on the same condition, its E <= 3(1 + 6u)(eN + |q|·eD)/|D~|
+//     + 2^-51(1 + 2u)|q| + 2^-1020(1 + u) (the constants as above, but 1 - 3/32 - 2^-50).
 //   |D~| <= 32·eD: the quotient's upper end step_up(fl_up(N~ + eN)/(D~ + eD)) is below 0:
 //     N~ + eN < -g + 2eN <= -(gamma(22) - 2·gamma(5)(1 + 8u))·S < -11u·S, and its
 //     quotient by D~ + eD <= 33·eD <= 166u·Σ|n_j d_j| + 2^-1016 lies below -2^-1073
@@ -247,6 +267,17 @@ inline Interval<double> crossing_enclosure_conservative(const PolyCrossing& c, i
         v = Interval<double>(std::max(v.lo, w.lo), std::min(v.hi, w.hi));
     }
     return v;
+}
+struct QuickCrossing {
+    double lo, hi;
+    bool ok;
+};
+RAYPROOF_ALWAYS_INLINE QuickCrossing crossing_enclosure_quick(const PolyCrossing& c) {
+    const double inv = 1 / c.D, ai = std::abs(inv), q = c.N * inv, aq = std::abs(q);
+    const double E = 3 * ((c.eN + aq * c.eD) * ai) + 0x1p-1019;
+    const bool ok = int(c.finite_N) & int(c.finite_D) & int(std::abs(c.D) > 32 * c.eD) &
+                    int(ai >= std::numeric_limits<double>::min()) & int(E <= std::numeric_limits<double>::max());
+    return {q - E, q + E, ok};
 }
 
 // The ray and the planes as a source of exact quotients (detail/certified.hpp): plane k's
@@ -379,7 +410,11 @@ template <class T>
 // crossing whose den may be tiny has an enclosure unbounded on one side
 // (divide_signed). So the verdict can only err towards hit, [t_enter, t_exit] encloses
 // the exact interval, and the face (the plane of the largest lower bound) may differ from
-// the exact one on near ties.
+// the exact one on near ties. A plane whose quick enclosure holds
+// (crossing_enclosure_quick: its den far from its bound, so den's sign is certain and the
+// plane valid) updates the entry or the exit at once; any other plane takes the checked
+// path with exact signs. (Picks instead of the branches on the side, a coin toss on
+// random planes, measured slower: they chain every plane's update to the one before.)
 template <class T> Hit<T> poly_conservative(const Ray<T>& r, std::span<const Plane<T>> planes) {
     const PolySource<T> src(r, planes);
     Hit<T> h;
@@ -387,21 +422,33 @@ template <class T> Hit<T> poly_conservative(const Ray<T>& r, std::span<const Pla
     int face = -1;
     for (std::size_t k = 0; k < planes.size(); ++k) {
         const PolyCrossing c = poly_crossing(r, planes[k]);
-        if (!poly_plane_checked(c, planes[k])) return invalid_hit<T>();
-        const int s = poly_den_sign(c, src, int(k));
-        if (s == 0) {
-            if (!nonzero3(planes[k].normal.data())) return invalid_hit<T>();
-            if (!poly_inside(c, src, int(k))) return poly_miss_checked(planes, k + 1);
-            continue;
-        }
-        const Interval<double> v = crossing_enclosure_conservative(c, s);
-        if (s < 0) {
-            if (v.lo > lo) {
-                lo = v.lo;
-                face = int(k);
+        const QuickCrossing w = crossing_enclosure_quick(c);
+        if (w.ok) [[likely]] {
+            if (c.D < 0) {
+                if (w.lo > lo) {
+                    lo = w.lo;
+                    face = int(k);
+                }
+            } else if (w.hi < hi) {
+                hi = w.hi;
             }
-        } else if (v.hi < hi) {
-            hi = v.hi;
+        } else {
+            if (!poly_plane_checked(c, planes[k])) return invalid_hit<T>();
+            const int s = poly_den_sign(c, src, int(k));
+            if (s == 0) {
+                if (!nonzero3(planes[k].normal.data())) return invalid_hit<T>();
+                if (!poly_inside(c, src, int(k))) return poly_miss_checked(planes, k + 1);
+                continue;
+            }
+            const Interval<double> v = crossing_enclosure_conservative(c, s);
+            if (s < 0) {
+                if (v.lo > lo) {
+                    lo = v.lo;
+                    face = int(k);
+                }
+            } else if (v.hi < hi) {
+                hi = v.hi;
+            }
         }
         if (lo > hi) return poly_miss_checked(planes, k + 1);  // the exact entry exceeds the exact exit
     }
