@@ -16,7 +16,8 @@
 // conservative and certified against the oracle after an exact power-of-two scaling
 // (the same geometry elsewhere in the exponent range); oracle-free invariants of
 // certified under exact power-of-two scaling and ray reversal; and the fast mode's wrong
-// answers counted per generator (printed).
+// answers counted per generator (printed); for float, every conservative hit a hit of
+// the pass in double (the float stage adds no false hit).
 #include "props_support.hpp"
 
 #include <rayproof/prepared_ray.hpp>
@@ -105,6 +106,25 @@ template <class T, class Mode> void mode_contract(Mode mode) {
 
 TYPED_TEST(PolyhedronProps, ConservativeNeverMissesAndEncloses) { mode_contract<TypeParam>(conservative); }
 TYPED_TEST(PolyhedronProps, CertifiedEqualsOracle) { mode_contract<TypeParam>(certified); }
+
+// Float input only: conservative mode's first stage runs the pass in float and answers a
+// miss where its entry bound exceeds its exit bound, a hit where they lie 5·E_max apart
+// or more (an exact hit then); the rest goes to the pass in double. So every conservative
+// hit is a hit of the double pass: a float stage that answered near a graze would add
+// false hits. (For double input the double pass is the first stage.)
+TEST(PolyhedronFloatConservative, EveryHitIsAHitOfTheDoublePass) {
+    using T = float;
+    run_cases<T, Owned<T>>([](const auto& d, auto) -> Failure {
+        const ConvexPolyhedron<T> poly = d.c.shape.view();
+        const Hit<T> h = intersect(d.c.ray, poly, conservative);
+        if (h.verdict != Verdict::hit) return std::nullopt;
+        const Hit<T> g = detail::poly_conservative_double(d.c.ray, poly.planes);
+        if (g.verdict == Verdict::hit) return std::nullopt;
+        std::ostringstream os;
+        os << "conservative " << h << ", the double pass " << g;
+        return os.str();
+    });
+}
 
 // verdict(), scalar and batch (the ray and its reverse), equals the full answer's verdict
 // (in fast mode, its validity), and the certified one is the exact verdict.

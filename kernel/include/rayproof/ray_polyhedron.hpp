@@ -38,7 +38,9 @@
 //            of the two enclosures (unbounded on one side then), and within 32 times its
 //            bound by the intersection of the two (crossing_enclosure_conservative: a
 //            ray leaving a face from gamma(22)·S of it is answered miss on it however
-//            grazing, poly_leaving_margin);
+//            grazing, poly_leaving_margin); for float input the pass in float first
+//            (quick enclosures only), answering where it decides the verdict with room
+//            to spare (poly_conservative_float), else the double pass.
 //            [t_enter, t_exit] = [largest entry lower bound, smallest exit upper bound],
 //            which encloses the exact interval, so the verdict can only err towards hit.
 //            certified — crossing_enclosure's intervals filter each comparison of the
@@ -160,21 +162,27 @@ template <class T> RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const Pr
 // of absolute values is finite, so every product and partial sum of N~ and D~ is; an
 // infinite e (overflow at extreme exponents) bounds nothing, and the enclosures below
 // are then the whole line, which the exact stage decides.
-struct PolyCrossing {
-    double N, D, eN, eD;
+// The conservative pass for float input runs first in float (poly_crossing<float>: no
+// conversion): the same derivation with u = 2^-24, eta = 2^-126 and a product's underflow
+// at most 2^-150 (so 2^-148 in place of 2^-1072 above).
+template <class C> struct Crossing {
+    C N, D, eN, eD;
     bool finite_N, finite_D;  // eN (resp. eD) finite: the bound holds
 };
-template <class T> RAYPROOF_ALWAYS_INLINE PolyCrossing poly_crossing(const Ray<T>& r, const Plane<T>& p) {
-    constexpr double K = gamma<double>(5), eta = 0x1p-1022, big = std::numeric_limits<double>::max();
-    double N = double(p.offset), SN = std::abs(N), D = 0, SD = 0;
+using PolyCrossing = Crossing<double>;
+template <class C = double, class T>
+RAYPROOF_ALWAYS_INLINE Crossing<C> poly_crossing(const Ray<T>& r, const Plane<T>& p) {
+    static_assert(sizeof(C) >= sizeof(T), "the sums are computed in T or wider");
+    constexpr C K = gamma<C>(5), eta = std::numeric_limits<C>::min(), big = std::numeric_limits<C>::max();
+    C N = C(p.offset), SN = std::abs(N), D = 0, SD = 0;
     for (int j = 0; j < 3; ++j) {
-        const double n = double(p.normal[j]), no = n * double(r.origin[j]), nd = n * double(r.direction[j]);
+        const C n = C(p.normal[j]), no = n * C(r.origin[j]), nd = n * C(r.direction[j]);
         N = N - no;
         D = D + nd;
         SN = SN + std::abs(no);  // fl(|n|·|o|) = |fl(n·o)|: rounding is symmetric
         SD = SD + std::abs(nd);
     }
-    const double eN = K * SN + eta, eD = K * SD + eta;
+    const C eN = K * SN + eta, eD = K * SD + eta;
     return {N, D, eN, eD, eN <= big, eD <= big};
 }
 
@@ -224,7 +232,8 @@ inline Interval<double> crossing_enclosure(const PolyCrossing& c, int s) {
 // that excess is at least 4.8u|q|: more than 2.01u·r, the roundings of q ∓ E (u(|q| +
 // E)) and E's own; 2^-1019 covers every absolute term (a few 2^-1073). So [fl(q - E),
 // fl(q + E)] holds t. A bound not finite, |inv| not normal or E not finite goes to the
-// stepped enclosures.
+// stepped enclosures. The same in float (the float pass, below) with 2^-123 for 2^-1019,
+// above its absolute terms (a few 2^-147).
 // Contraction (detail/eft.hpp): class C1, a fused step has fewer roundings.
 // Otherwise (crossing_enclosure_conservative): crossing_enclosure's, and where 2·eD <
 // |D~| <= 32·eD (below, crossing_enclosure is that quotient already) also the
@@ -268,16 +277,17 @@ inline Interval<double> crossing_enclosure_conservative(const PolyCrossing& c, i
     }
     return v;
 }
-struct QuickCrossing {
-    double lo, hi;
+template <class C> struct QuickCrossing {
+    C lo, hi, E;
     bool ok;
 };
-RAYPROOF_ALWAYS_INLINE QuickCrossing crossing_enclosure_quick(const PolyCrossing& c) {
-    const double inv = 1 / c.D, ai = std::abs(inv), q = c.N * inv, aq = std::abs(q);
-    const double E = 3 * ((c.eN + aq * c.eD) * ai) + 0x1p-1019;
+template <class C> RAYPROOF_ALWAYS_INLINE QuickCrossing<C> crossing_enclosure_quick(const Crossing<C>& c) {
+    constexpr C floor = 8 * std::numeric_limits<C>::min();  // 2^-1019 (float: 2^-123)
+    const C inv = 1 / c.D, ai = std::abs(inv), q = c.N * inv, aq = std::abs(q);
+    const C E = 3 * ((c.eN + aq * c.eD) * ai) + floor;
     const bool ok = int(c.finite_N) & int(c.finite_D) & int(std::abs(c.D) > 32 * c.eD) &
-                    int(ai >= std::numeric_limits<double>::min()) & int(E <= std::numeric_limits<double>::max());
-    return {q - E, q + E, ok};
+                    int(ai >= std::numeric_limits<C>::min()) & int(E <= std::numeric_limits<C>::max());
+    return {q - E, q + E, E, ok};
 }
 
 // The ray and the planes as a source of exact quotients (detail/certified.hpp): plane k's
@@ -415,7 +425,41 @@ template <class T>
 // plane valid) updates the entry or the exit at once; any other plane takes the checked
 // path with exact signs. (Picks instead of the branches on the side, a coin toss on
 // random planes, measured slower: they chain every plane's update to the one before.)
-template <class T> Hit<T> poly_conservative(const Ray<T>& r, std::span<const Plane<T>> planes) {
+// Float input: the pass in float first (poly_crossing<float>, crossing_enclosure_quick<float>:
+// no conversion, float divisions), every plane by its quick enclosure. A plane it
+// declines (den near its bound, an overflow, an invalid plane) sends the whole query to
+// the double pass. Its entry bound above its exit bound is a miss (certain, as in the
+// double pass; the planes after are checked by the rules); a hit where fl(exit bound -
+// entry bound) >= fl(5·E_max), finite, E_max the largest crossing bound: the exact entry
+// lies below the entry bound plus 2·E_max, the exact exit above the exit bound less
+// 2·E_max, so the exact answer hits too. The rest (near a graze, where float's bounds,
+// some 2^29 times double's, would add false hits) goes to the double pass, so every hit
+// of the float stage is a hit of the double pass.
+RAYPROOF_ALWAYS_INLINE std::optional<Hit<float>> poly_conservative_float(const Ray<float>& r,
+                                                                         std::span<const Plane<float>> planes) {
+    float lo = r.t_min, hi = r.t_max, e_max = 0;
+    int face = -1;
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+        const Crossing<float> c = poly_crossing<float>(r, planes[k]);
+        const QuickCrossing<float> w = crossing_enclosure_quick(c);
+        if (!w.ok) [[unlikely]]
+            return std::nullopt;
+        e_max = w.E > e_max ? w.E : e_max;
+        if (c.D < 0) {
+            if (w.lo > lo) {
+                lo = w.lo;
+                face = int(k);
+            }
+        } else if (w.hi < hi) {
+            hi = w.hi;
+        }
+        if (lo > hi) return poly_miss_checked(planes, k + 1);  // the exact entry exceeds the exact exit
+    }
+    const float gap = 5 * e_max;
+    if (!(int(hi - lo >= gap) & int(gap <= std::numeric_limits<float>::max()))) return std::nullopt;
+    return hit_when(true, lo, hi, face);
+}
+template <class T> Hit<T> poly_conservative_double(const Ray<T>& r, std::span<const Plane<T>> planes) {
     const PolySource<T> src(r, planes);
     Hit<T> h;
     double lo = r.t_min, hi = r.t_max;
@@ -457,6 +501,13 @@ template <class T> Hit<T> poly_conservative(const Ray<T>& r, std::span<const Pla
     h.t_exit = round_up_to<T>(hi);
     h.face = face;
     return h;
+}
+// The conservative answer: for float input the float stage first; otherwise, and for
+// double input, the pass in double.
+template <class T> Hit<T> poly_conservative(const Ray<T>& r, std::span<const Plane<T>> planes) {
+    if constexpr (std::is_same_v<T, float>)
+        if (const std::optional<Hit<float>> h = poly_conservative_float(r, planes)) return *h;
+    return poly_conservative_double(r, planes);
 }
 template <class T>
 RAYPROOF_ALWAYS_INLINE Hit<T> query(const Ray<T>& r, const PreparedPolyhedron<T>& p, conservative_t) {
