@@ -301,8 +301,11 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> obb_conservative_general(
 // apart (the difference, if it overflows, more than the largest float), so the exact
 // answer hits too. The rest (near a graze, where float's bounds, some 2^29 times
 // double's, would add false hits) goes on to the double enclosure: every hit of the
-// float path is a hit of the double one. Its ends are wider (a few float steps, more for
-// slabs nearly parallel to the ray).
+// float path is a hit of the double one. Its ends are wider than the double
+// enclosure's (one float step from the exact value on general input): on the `general`
+// cases 46 float steps at the median, 546 at the 99th percentile, more where a slab is
+// nearly parallel to the ray or the origin lies near a face (the one bound per axis is
+// in units of its far side).
 // The exact entry is max(t_min, max_i t_in_i) and each exact t_in_i lies above its
 // fl(t~ - E): the largest of these lower bounds (and t_min) is a lower bound of the
 // entry; likewise the smallest of the upper bounds of the exits (and t_max) is an upper

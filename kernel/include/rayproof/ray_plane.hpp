@@ -472,6 +472,9 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_conservative_genera
 // that straddles t_min or t_max (t within some float steps of it, more on
 // ill-conditioned input: float's bound is some 2^29 times double's) goes on to the
 // double enclosure, so that the float path makes no false hit the double one would not.
+// Its ends are wider than the double enclosure's (two float steps from the exact value on
+// general input): on the `general` cases 37 float steps at the median, 1316 at the 99th
+// percentile (more for an origin near the plane, where |N~| is small against its bound).
 // What the enclosures' checks exclude goes to plane_conservative_general.
 template <class T>
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_conservative_common(const Ray<T>& r, const Plane<T>& p) {

@@ -434,7 +434,9 @@ template <class T>
 // lies below the entry bound plus 2·E_max, the exact exit above the exit bound less
 // 2·E_max, so the exact answer hits too. The rest (near a graze, where float's bounds,
 // some 2^29 times double's, would add false hits) goes to the double pass, so every hit
-// of the float stage is a hit of the double pass.
+// of the float stage is a hit of the double pass. Its ends are wider than the double
+// pass's (one float step from the exact value on general input): on the `general` cases
+// 39 float steps at the median, 599 at the 99th percentile.
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<float>> poly_conservative_float(const Ray<float>& r,
                                                                          std::span<const Plane<float>> planes) {
     float lo = r.t_min, hi = r.t_max, e_max = 0;
