@@ -425,6 +425,25 @@ template <class T>
 // plane valid) updates the entry or the exit at once; any other plane takes the checked
 // path with exact signs. (Picks instead of the branches on the side, a coin toss on
 // random planes, measured slower: they chain every plane's update to the one before.)
+// The conservative pass's state: the latest entry's lower bound and the earliest exit's
+// upper bound so far, and the plane of the first. A crossing enclosed in [a, b] raises
+// the entry bound if it is an entry (den < 0), else lowers the exit bound.
+template <class C> struct PolyPass {
+    C lo, hi;
+    int face = -1;
+    RAYPROOF_ALWAYS_INLINE void take(bool entry, C a, C b, int k) {
+        if (entry) {
+            if (a > lo) {
+                lo = a;
+                face = k;
+            }
+        } else if (b < hi) {
+            hi = b;
+        }
+    }
+    bool empty() const { return lo > hi; }  // the exact entry exceeds the exact exit
+};
+
 // Float input: the pass in float first (poly_crossing<float>, crossing_enclosure_quick<float>:
 // no conversion, float divisions), every plane by its quick enclosure. A plane it
 // declines (den near its bound, an overflow, an invalid plane) sends the whole query to
@@ -439,45 +458,30 @@ template <class T>
 // 39 float steps at the median, 599 at the 99th percentile.
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<float>> poly_conservative_float(const Ray<float>& r,
                                                                          std::span<const Plane<float>> planes) {
-    float lo = r.t_min, hi = r.t_max, e_max = 0;
-    int face = -1;
+    PolyPass<float> pass{r.t_min, r.t_max};
+    float e_max = 0;
     for (std::size_t k = 0; k < planes.size(); ++k) {
         const Crossing<float> c = poly_crossing<float>(r, planes[k]);
         const QuickCrossing<float> w = crossing_enclosure_quick(c);
         if (!w.ok) [[unlikely]]
             return std::nullopt;
         e_max = w.E > e_max ? w.E : e_max;
-        if (c.D < 0) {
-            if (w.lo > lo) {
-                lo = w.lo;
-                face = int(k);
-            }
-        } else if (w.hi < hi) {
-            hi = w.hi;
-        }
-        if (lo > hi) return poly_miss_checked(planes, k + 1);  // the exact entry exceeds the exact exit
+        pass.take(c.D < 0, w.lo, w.hi, int(k));
+        if (pass.empty()) return poly_miss_checked(planes, k + 1);
     }
     const float gap = 5 * e_max;
-    if (!(int(hi - lo >= gap) & int(gap <= std::numeric_limits<float>::max()))) return std::nullopt;
-    return hit_when(true, lo, hi, face);
+    if (!(int(pass.hi - pass.lo >= gap) & int(gap <= std::numeric_limits<float>::max()))) return std::nullopt;
+    return hit_when(true, pass.lo, pass.hi, pass.face);
 }
 template <class T> Hit<T> poly_conservative_double(const Ray<T>& r, std::span<const Plane<T>> planes) {
     const PolySource<T> src(r, planes);
     Hit<T> h;
-    double lo = r.t_min, hi = r.t_max;
-    int face = -1;
+    PolyPass<double> pass{r.t_min, r.t_max};
     for (std::size_t k = 0; k < planes.size(); ++k) {
         const PolyCrossing c = poly_crossing(r, planes[k]);
-        const QuickCrossing w = crossing_enclosure_quick(c);
+        const QuickCrossing<double> w = crossing_enclosure_quick(c);
         if (w.ok) [[likely]] {
-            if (c.D < 0) {
-                if (w.lo > lo) {
-                    lo = w.lo;
-                    face = int(k);
-                }
-            } else if (w.hi < hi) {
-                hi = w.hi;
-            }
+            pass.take(c.D < 0, w.lo, w.hi, int(k));
         } else {
             if (!poly_plane_checked(c, planes[k])) return invalid_hit<T>();
             const int s = poly_den_sign(c, src, int(k));
@@ -487,21 +491,14 @@ template <class T> Hit<T> poly_conservative_double(const Ray<T>& r, std::span<co
                 continue;
             }
             const Interval<double> v = crossing_enclosure_conservative(c, s);
-            if (s < 0) {
-                if (v.lo > lo) {
-                    lo = v.lo;
-                    face = int(k);
-                }
-            } else if (v.hi < hi) {
-                hi = v.hi;
-            }
+            pass.take(s < 0, v.lo, v.hi, int(k));
         }
-        if (lo > hi) return poly_miss_checked(planes, k + 1);  // the exact entry exceeds the exact exit
+        if (pass.empty()) return poly_miss_checked(planes, k + 1);
     }
     h.verdict = Verdict::hit;
-    h.t_enter = round_down_to<T>(lo);
-    h.t_exit = round_up_to<T>(hi);
-    h.face = face;
+    h.t_enter = round_down_to<T>(pass.lo);
+    h.t_exit = round_up_to<T>(pass.hi);
+    h.face = pass.face;
     return h;
 }
 // The conservative answer: for float input the float stage first; otherwise, and for
