@@ -295,11 +295,9 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> obb_conservative_general(
 // u)·m·|inv| for both, and E = 2·((eo + m·(ed·|inv| + 5u))·|inv|) + eta covers both
 // values' bounds as above. That enclosure answers a miss where its entry bound lies
 // above its exit bound (certain: they bound the exact entry from below and the exact
-// exit from above), and a hit where fl(exit bound - entry bound) >= fl(5·E_max), finite,
-// E_max the largest bound: the exact entry is below the entry bound plus 2·E_max, the
-// exact exit above the exit bound less 2·E_max, and the two bounds lie more than 4·E_max
-// apart (the difference, if it overflows, more than the largest float), so the exact
-// answer hits too. The rest (near a graze, where float's bounds, some 2^29 times
+// exit from above), and a hit where certain_hit (detail/certified.hpp) proves one, with
+// E_max the largest bound: the exact entry is below the entry bound plus 2·E_max and the
+// exact exit above the exit bound less 2·E_max. The rest (near a graze, where float's bounds, some 2^29 times
 // double's, would add false hits) goes on to the double enclosure: every hit of the
 // float path is a hit of the double one. Its ends are wider than the double
 // enclosure's (one float step from the exact value on general input): on the `general`
@@ -375,8 +373,7 @@ RAYPROOF_ALWAYS_INLINE ObbEnclosure<C> obb_enclosure(const Ray<T>& r, const Obb<
 template <class T> RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_conservative_common(const Ray<T>& r, const Obb<T>& b) {
     if constexpr (std::is_same_v<T, float>) {
         const ObbEnclosure<float> f = obb_enclosure<float>(r, b);
-        const float gap = 5 * f.e_max;
-        const bool miss = f.lo > f.hi, hit = int(f.hi - f.lo >= gap) & int(gap <= std::numeric_limits<float>::max());
+        const bool miss = f.lo > f.hi, hit = certain_hit(f.lo, f.hi, f.e_max);
         if (int(f.ok) & (int(hit) | int(miss))) [[likely]]
             return hit_when(hit, f.lo, f.hi, f.face);
     }

@@ -448,10 +448,10 @@ template <class C> struct PolyPass {
 // no conversion, float divisions), every plane by its quick enclosure. A plane it
 // declines (den near its bound, an overflow, an invalid plane) sends the whole query to
 // the double pass. Its entry bound above its exit bound is a miss (certain, as in the
-// double pass; the planes after are checked by the rules); a hit where fl(exit bound -
-// entry bound) >= fl(5·E_max), finite, E_max the largest crossing bound: the exact entry
-// lies below the entry bound plus 2·E_max, the exact exit above the exit bound less
-// 2·E_max, so the exact answer hits too. The rest (near a graze, where float's bounds,
+// double pass; the planes after are checked by the rules); a hit where certain_hit
+// (detail/certified.hpp) proves one, with E_max the largest crossing bound: the exact
+// entry lies below the entry bound plus 2·E_max, the exact exit above the exit bound
+// less 2·E_max. The rest (near a graze, where float's bounds,
 // some 2^29 times double's, would add false hits) goes to the double pass, so every hit
 // of the float stage is a hit of the double pass. Its ends are wider than the double
 // pass's (one float step from the exact value on general input): on the `general` cases
@@ -469,8 +469,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<float>> poly_conservative_float(const R
         pass.take(c.D < 0, w.lo, w.hi, int(k));
         if (pass.empty()) return poly_miss_checked(planes, k + 1);
     }
-    const float gap = 5 * e_max;
-    if (!(int(pass.hi - pass.lo >= gap) & int(gap <= std::numeric_limits<float>::max()))) return std::nullopt;
+    if (!certain_hit(pass.lo, pass.hi, e_max)) return std::nullopt;
     return hit_when(true, pass.lo, pass.hi, pass.face);
 }
 template <class T> Hit<T> poly_conservative_double(const Ray<T>& r, std::span<const Plane<T>> planes) {

@@ -290,6 +290,19 @@ template <class T> RAYPROOF_ALWAYS_INLINE OutwardEnds<T> outward_to(double lo, d
     }
 }
 
+// A hit proven by bounds computed in C: lo a lower bound of the exact entry and hi an
+// upper bound of the exact exit, such that the exact entry lies below lo + 2·e_max and
+// the exact exit above hi - 2·e_max (each bound an approximation widened by at most
+// e_max, as the float stages of the Obb and the polyhedron compute them, where E
+// exceeds the approximation's error by more than the rounding of t~ ∓ E). A hit where
+// fl(hi - lo) >= fl(5·e_max), finite: then hi - lo >= 5·e_max(1 - u)/(1 + u) > 4·e_max (a
+// difference that overflows is above the largest C), so the exact exit exceeds the
+// exact entry and the exact answer hits too. e_max = 0 (exact bounds) asks hi >= lo.
+template <class C> RAYPROOF_ALWAYS_INLINE bool certain_hit(C lo, C hi, C e_max) {
+    const C gap = 5 * e_max;
+    return bool(int(hi - lo >= gap) & int(gap <= std::numeric_limits<C>::max()));
+}
+
 // [t_enter, t_exit] with its face on a hit, and on a miss Hit<T>{} (t 0, face -1), chosen
 // without a jump: on random rays hit or miss is a coin toss, and a branch on it is
 // mispredicted half the time.
