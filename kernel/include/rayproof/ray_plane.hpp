@@ -35,8 +35,11 @@
 //            comparing c with them, and c is t faithfully rounded; for float the faithful
 //            double rounded to nearest); a rough enclosure of t for nearly parallel rays
 //            that miss; exact zeros (t == 0, a ray in or parallel to the plane) when the
-//            sums are exact. No interval and one branch. What it cannot decide goes to
-//            the general path (plane_certified): intervals decide what they separate,
+//            sums are exact. No interval, and one branch (one more on the input's range,
+//            taken only by input outside it). What it cannot decide goes to
+//            the general path (plane_certified), which first pins double input outside
+//            the pin's range (exponents beyond about ±450) on the input rescaled by
+//            powers of two (plane_pin_rescaled); then intervals decide what they separate,
 //            otherwise exact arithmetic (detail/exact.hpp): sign(den) and sign(num) are
 //            degree 2, the position of t against t_min/t_max
 //            sign(num - t_min·den)·sign(den) degree 3, each taken first from fixed-size
@@ -121,10 +124,12 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, fas
 // The crossing t = N/D (N = offset - n·o, D = n·d): pinned between two adjacent doubles
 // by detail/compensated.hpp (quotient_sums with the offset and the three products n_i·o_i
 // in lane 0 and n_i·d_i in lane 1, then pin_quotient), with two more claims from the same
-// sums, no interval and no branch. The certified straight-line path decides everything
-// from it, and the general path rounds t with it first, so the two agree bit for bit.
+// sums, no interval and one jump (on the input's range). The certified straight-line
+// path decides everything from it, and the general path rounds t with it first, so the
+// two agree bit for bit.
 // Range: n_i, o_i and d_i each 0 or of magnitude in [2^-450, 2^490], offset 0 or in
-// [2^-450, 2^1000] (quotient_sums' conditions).
+// [2^-450, 2^1000] (quotient_sums' conditions); double input outside it is pinned
+// rescaled (plane_pin_rescaled) on the general path.
 // Rough enclosure, for a t far from c's neighbours' reach (a nearly parallel ray, whose
 // t the sums' bounds cannot pin to one ulp): when |c_N| + b_N <= 2^-20|s_N| and |c_D| +
 // b_D < 2^-20|s_D|, N = s_N(1 + a) and D = s_D(1 + b) with |a|, |b| <= 2^-20(1 + u), and
@@ -143,18 +148,17 @@ struct PlanePin {
     bool zero;      // t == 0 exactly (N == 0, D != 0)
     bool lying;     // D == 0 and N == 0: the ray lies in the plane (if n and d are nonzero)
     bool parallel;  // D == 0 and N != 0: parallel, off the plane
+    bool ranged;    // the inputs were in range (else nothing above is claimed)
 };
-template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, const Plane<T>& p) {
+// The pin from the pairs a_j = (-n_j, n_j) and b_j = (o_j, d_j) and the offset f, as
+// doubles. Input outside the range claims nothing and is not summed (its products would
+// be subnormal, a microcode assist each): one jump, on input that rarely is.
+RAYPROOF_ALWAYS_INLINE PlanePin plane_pin_of(double f, const lanes::D2 (&a)[3], const lanes::D2 (&b)[3]) {
     using namespace lanes;
-    const double f = double(p.offset);
-    D2 a[3], b[3];
-    for (int j = 0; j < 3; ++j) {
-        const double n = double(p.normal[j]);
-        a[j] = make(-n, n);
-        b[j] = make(double(r.origin[j]), double(r.direction[j]));
-    }
     const M2 inputs = in_range(a[0]) & in_range(a[1]) & in_range(a[2]) & in_range(b[0]) & in_range(b[1]) &
                       in_range(b[2]) & in_range(make(f, 0.0), make(0x1p1000, 0.0));
+    if (bits(inputs) != 3) [[unlikely]]
+        return PlanePin{};
     const QuotientSums s = quotient_sums(make(f, 0.0), a, b, inputs);
     const PinnedQuotient x = pin_quotient(s);
     // The rough enclosure.
@@ -166,7 +170,93 @@ template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, co
     // Exact zeros (bit 0: N, bit 1: D): z proven zero, nz proven nonzero.
     const int z = bits((s.bound == splat(0.0)) & (s.hi == splat(0.0))), nz = bits(abs(s.hi) > s.bound + s.bound);
     const bool zero = int(s.ok) & z & (nz >> 1), lying = int(s.ok) & int(z == 3), parallel = int(s.ok) & (z >> 1) & nz;
-    return {x.c, x.pinned, q - pad, q + pad, rough, zero, lying, parallel};
+    return {x.c, x.pinned, q - pad, q + pad, rough, zero, lying, parallel, true};
+}
+
+// Double input outside the range above (a plane or ray scaled far up or down, as the
+// exponent-range generators make them): the same pin on the input scaled by powers of
+// two, n by 2^-kn, o by 2^-ko, d by 2^-kd and the offset by 2^-(kn + ko), k the exponent
+// of each vector's largest component (ko from the offset when o = 0). Then N' = N·2^-(kn
+// + ko) and D' = D·2^-(kn + kd), so t' = t·2^(kd - ko), and the zeros and signs of N and
+// D are those of N' and D'. Each scaling is exact where its result is a normal double or
+// 0 (times_pow2); a nonzero value that would become 0 declines, and a subnormal one is
+// outside the range, so the pin claims nothing from inexact values. Back: c =
+// c'·2^(ko - kd) is exact, and t strictly between the neighbours of c' means t strictly
+// between those of c, when both are normal (|c'|, |c| >= 2^-1021, finite: the scaling
+// maps adjacent normal doubles to adjacent doubles); otherwise nothing is pinned. The
+// rough ends likewise, kept where both stay normal and finite. Out of line: only such
+// input pays for it.
+[[gnu::noinline]] inline PlanePin plane_pin_rescaled(const Ray<double>& r, const Plane<double>& p) {
+    PlanePin none{};
+    const double f = p.offset, n[3] = {p.normal[0], p.normal[1], p.normal[2]},
+                 o[3] = {r.origin[0], r.origin[1], r.origin[2]}, d[3] = {r.direction[0], r.direction[1], r.direction[2]};
+    const double all[10] = {n[0], n[1], n[2], o[0], o[1], o[2], d[0], d[1], d[2], f};
+    for (const double v : all)
+        if (!std::isfinite(v)) return none;
+    const auto top = [](const double (&v)[3]) {
+        const double a0 = std::abs(v[0]), a1 = std::abs(v[1]), a2 = std::abs(v[2]);
+        const double m = a0 > a1 ? (a0 > a2 ? a0 : a2) : (a1 > a2 ? a1 : a2);
+        return m == 0 ? std::optional<int>() : std::optional<int>(binary_exponent(m));
+    };
+    const std::optional<int> tn = top(n), to = top(o), td = top(d);
+    if (!tn || !td) return none;  // n or d zero: invalid, the general path says so
+    const int kn = *tn, kd = *td, ko = to ? *to : (f != 0 ? binary_exponent(f) - kn : 0);
+    if (std::abs(ko) > 2044 || std::abs(kn + ko) > 2044) return none;
+    bool lost = false;
+    const auto scale = [&](double v, int k) {
+        const double w = times_pow2(v, k);
+        lost |= (w == 0) != (v == 0);
+        return w;
+    };
+    double n2[3], o2[3], d2[3];
+    for (int j = 0; j < 3; ++j) {
+        n2[j] = scale(n[j], -kn);
+        o2[j] = scale(o[j], -ko);
+        d2[j] = scale(d[j], -kd);
+    }
+    const double f2 = scale(f, -(kn + ko));
+    if (lost) return none;
+    lanes::D2 a[3], b[3];
+    for (int j = 0; j < 3; ++j) {
+        a[j] = lanes::make(-n2[j], n2[j]);
+        b[j] = lanes::make(o2[j], d2[j]);
+    }
+    PlanePin x = plane_pin_of(f2, a, b);
+    const int back = ko - kd;
+    if (std::abs(back) > 2044) {
+        x.pinned = x.rough = false;
+        return x;
+    }
+    constexpr double low = 0x1p-1021, big = std::numeric_limits<double>::max();
+    const auto normal = [&](double v) { return std::abs(v) >= low && std::abs(v) <= big; };
+    const double c1 = x.c;
+    x.c = times_pow2(c1, back);
+    x.pinned = x.pinned && normal(c1) && normal(x.c);
+    x.rough_lo = times_pow2(x.rough_lo, back);
+    x.rough_hi = times_pow2(x.rough_hi, back);
+    x.rough = x.rough && normal(x.rough_lo) && normal(x.rough_hi);
+    return x;
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE PlanePin plane_pin(const Ray<T>& r, const Plane<T>& p) {
+    using namespace lanes;
+    D2 a[3], b[3];
+    for (int j = 0; j < 3; ++j) {
+        const double n = double(p.normal[j]);
+        a[j] = make(-n, n);
+        b[j] = make(double(r.origin[j]), double(r.direction[j]));
+    }
+    return plane_pin_of(double(p.offset), a, b);
+}
+
+// plane_pin, and for double input outside its range the rescaled pin (float input is
+// always in range): what the paths out of line use (the general path's decisions and
+// its rounding of t), so that every path rounds t from the same c.
+template <class T> PlanePin plane_pin_any(const Ray<T>& r, const Plane<T>& p) {
+    const PlanePin x = plane_pin(r, p);
+    if constexpr (std::is_same_v<T, double>)
+        if (!x.ranged) return plane_pin_rescaled(r, p);
+    return x;
 }
 
 // The certified verdict from a plain floating-point filter, before anything is pinned
@@ -417,7 +507,7 @@ public:
     // The same from its second step on: for a caller that tried plane_nearest_float
     // itself (poly_faithful), which would otherwise compute the enclosure twice.
     T faithful_after_nearest(const Interval<double>& t, bool& went_exact) const {
-        const PlanePin x = plane_pin(*r_, *p_);
+        const PlanePin x = plane_pin_any(*r_, *p_);
         if (x.pinned) return faithful_to<T>(x.c);
         if (x.zero) return T(0);
         if (const std::optional<T> f = faithful_from_enclosure<T>(t)) return *f;
@@ -541,43 +631,12 @@ template <class T, class X> Hit<T> plane_certified(const Ray<T>& r, const X& x) 
     return h;
 }
 
-// The straight-line path of the certified mode. For float input the conservative
-// enclosure first: a hit when it lies inside [t_min, t_max] and t rounds to one float
-// (plane_nearest_float, then the answer wherever this path hits), a miss when it lies
-// outside. Then every decision from plane_pin. With t
-// proven strictly between c's neighbours, t > t_min when c > t_min and t < t_max when c <
-// t_max (a hit: t_min and t_max are doubles, so c > t_min means c's lower neighbour is
-// at least t_min), t < t_min when c < t_min and t > t_max when c > t_max (a miss); a t
-// whose rough enclosure lies outside [t_min, t_max] misses too; t == 0 exactly is
-// compared as it is; a parallel ray misses, or hits on its whole range when it lies in
-// the plane. The cases left (c equal to t_min or t_max), and anything plane_pin can
-// neither pin, enclose nor decide exactly (a ray nearly in the plane, extreme
-// exponents), go to the general path.
-// Every answer but the parallel ones also proves most of the validity rules (every
-// number but t_min and t_max finite, n and d nonzero: D != 0); the others come in as
-// rest_valid, and a parallel answer checks n != 0 and d != 0 itself.
-// A miss the verdict filter proves is answered at once (misses need no t).
+// The decisions from a pin x (plane_certified_common's, whose comment gives them), with
+// nearest the float rounding of t where the enclosure gave one.
 template <class T>
-RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_certified_common(const Ray<T>& r, const Plane<T>& p,
-                                                                    bool rest_valid = true) {
+RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_pin_answer(const Ray<T>& r, const Plane<T>& p, const PlanePin& x,
+                                                              Pinned<T> nearest, bool rest_valid) {
     const double lo = double(r.t_min), hi = double(r.t_max);
-    Pinned<T> nearest{T(0), false};
-    if constexpr (std::is_same_v<T, float>) {
-        // The enclosure first (plane_enclosure: no double-word arithmetic), which decides
-        // the verdict where it lies inside [t_min, t_max] or outside it, and rounds t to
-        // the nearest float where it can (plane_nearest_float); its checks prove the
-        // input valid but for t_min and t_max (rest_valid).
-        // One branch, on whether it decided (nearly always); hit or miss is chosen
-        // without a jump (hit_when: a coin toss on random rays).
-        const PlaneEnclosure<double> e = plane_enclosure(plane_sums<double>(r, p));
-        nearest = plane_nearest_float(e);
-        const bool inside = int(e.lo >= lo) & int(e.hi <= hi) & int(nearest.ok),
-                   outside = int(e.hi < lo) | int(e.lo > hi);
-        if (int(rest_valid) & int(e.ok) & (int(inside) | int(outside))) [[likely]]
-            return hit_when(inside, nearest.t, nearest.t);
-    }
-    if (plane_verdict_common(r, p) == int(Verdict::miss)) return Hit<T>{};
-    const PlanePin x = plane_pin(r, p);
     const bool crossing = int(x.pinned) & int(x.c > lo) & int(x.c < hi);
     const bool at_zero = int(x.zero) & int(lo <= 0) & int(hi >= 0);
     const bool miss = (int(x.pinned) & (int(x.c < lo) | int(x.c > hi))) |
@@ -601,7 +660,51 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_certified_common(const Ray<T>
     return h;
 }
 
+// The straight-line path of the certified mode. For float input the conservative
+// enclosure first: a hit when it lies inside [t_min, t_max] and t rounds to one float
+// (plane_nearest_float, then the answer wherever this path hits), a miss when it lies
+// outside. Then every decision from plane_pin. With t
+// proven strictly between c's neighbours, t > t_min when c > t_min and t < t_max when c <
+// t_max (a hit: t_min and t_max are doubles, so c > t_min means c's lower neighbour is
+// at least t_min), t < t_min when c < t_min and t > t_max when c > t_max (a miss); a t
+// whose rough enclosure lies outside [t_min, t_max] misses too; t == 0 exactly is
+// compared as it is; a parallel ray misses, or hits on its whole range when it lies in
+// the plane. The cases left (c equal to t_min or t_max), and anything plane_pin can
+// neither pin, enclose nor decide exactly (a ray nearly in the plane, extreme
+// exponents), go to the general path.
+// Every answer but the parallel ones also proves most of the validity rules (every
+// number but t_min and t_max finite, n and d nonzero: D != 0); the others come in as
+// rest_valid, and a parallel answer checks n != 0 and d != 0 itself.
+// A miss the verdict filter proves is answered at once (misses need no t).
+template <class T>
+RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> plane_certified_common(const Ray<T>& r, const Plane<T>& p,
+                                                                    bool rest_valid = true) {
+    Pinned<T> nearest{T(0), false};
+    if constexpr (std::is_same_v<T, float>) {
+        const double lo = double(r.t_min), hi = double(r.t_max);
+        // The enclosure first (plane_enclosure: no double-word arithmetic), which decides
+        // the verdict where it lies inside [t_min, t_max] or outside it, and rounds t to
+        // the nearest float where it can (plane_nearest_float); its checks prove the
+        // input valid but for t_min and t_max (rest_valid).
+        // One branch, on whether it decided (nearly always); hit or miss is chosen
+        // without a jump (hit_when: a coin toss on random rays).
+        const PlaneEnclosure<double> e = plane_enclosure(plane_sums<double>(r, p));
+        nearest = plane_nearest_float(e);
+        const bool inside = int(e.lo >= lo) & int(e.hi <= hi) & int(nearest.ok),
+                   outside = int(e.hi < lo) | int(e.lo > hi);
+        if (int(rest_valid) & int(e.ok) & (int(inside) | int(outside))) [[likely]]
+            return hit_when(inside, nearest.t, nearest.t);
+    }
+    if (plane_verdict_common(r, p) == int(Verdict::miss)) return Hit<T>{};
+    return plane_pin_answer(r, p, plane_pin(r, p), nearest, rest_valid);
+}
+
+// Valid input only. Double input outside plane_pin's range (which the straight-line path
+// declines) is first decided as that path decides, from the rescaled pin.
 template <class T> [[gnu::noinline, gnu::cold]] Hit<T> plane_certified_general(const Ray<T>& r, const Plane<T>& p) {
+    if constexpr (std::is_same_v<T, double>)
+        if (!plane_pin(r, p).ranged)
+            if (const std::optional<Hit<T>> h = plane_pin_answer(r, p, plane_pin_rescaled(r, p), {}, true)) return *h;
     return plane_certified(r, PlaneCrossing<T>(r, p));
 }
 
