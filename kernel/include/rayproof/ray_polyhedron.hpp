@@ -451,11 +451,11 @@ template <class C> struct PolyPass {
 // double pass; the planes after are checked by the rules); a hit where certain_hit
 // (detail/certified.hpp) proves one, with E_max the largest crossing bound: the exact
 // entry lies below the entry bound plus 2·E_max, the exact exit above the exit bound
-// less 2·E_max. The rest (near a graze, where float's bounds,
-// some 2^29 times double's, would add false hits) goes to the double pass, so every hit
-// of the float stage is a hit of the double pass. Its ends are wider than the double
-// pass's (one float step from the exact value on general input): on the `general` cases
-// 39 float steps at the median, 599 at the 99th percentile.
+// less 2·E_max. The rest (near a graze, where float's bounds, some 2^29 times double's,
+// would add false hits) goes to the double pass, so every hit of the float stage is a
+// hit of the double pass. Its ends are wider than the double pass's (one float step
+// from the exact value on general input): on the `general` cases 39 float steps at the
+// median, 599 at the 99th percentile.
 RAYPROOF_ALWAYS_INLINE std::optional<Hit<float>> poly_conservative_float(const Ray<float>& r,
                                                                          std::span<const Plane<float>> planes) {
     PolyPass<float> pass{r.t_min, r.t_max};
