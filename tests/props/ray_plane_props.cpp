@@ -53,8 +53,8 @@ TEST(PlaneFloatConservative, EveryHitIsAHitOfTheDoubleEnclosure) {
 // ±450 and pins the rest on the input rescaled by powers of two (plane_pin_rescaled, on
 // the general path). Here each case's normal, origin and direction are scaled apart: n by
 // 2^a, o by 2^b, the offset by 2^(a+b) and d by 2^c (t_min and t_max by 2^(b-c)), so the
-// exact t scales by 2^(b-c). The exponents are drawn from the case's choice until every
-// value scales exactly (normal or zero) and some value leaves the pin's range; a shrink
+// exact t scales by 2^(b-c) (gen::exact_scale). The exponents are drawn from the case's
+// choice until every value scales exactly and some value leaves the pin's range; a shrink
 // moves them towards 0. The certified answer of the scaled case meets the contract
 // against its exact answer, has the unscaled answer's verdict, and each t is the
 // unscaled t times 2^(b-c) or a double adjacent to it (both faithful roundings of one
@@ -67,18 +67,6 @@ TEST(PlaneRescaledPin, SeparateScalingsMeetTheContractAndScaleT) {
     rayproof::props::run_cases<T, P>([&](const auto& d, auto pick) -> std::optional<std::string> {
         ++total;
         using rayproof::props::same_or_adjacent;
-        const auto exact = [](T v, int e, T& out) {
-            out = std::ldexp(v, e);
-            return v == 0 || (std::isfinite(out) && std::abs(out) >= std::numeric_limits<T>::min() &&
-                              std::ldexp(out, -e) == v);  // a normal result, and no rounding into one
-        };
-        const auto limit = [&](T v, int e, T& out) {
-            if (v == 0 || std::isinf(v)) {
-                out = v;
-                return true;
-            }
-            return exact(v, e, out);
-        };
         const auto outside = [](T v) { return v != 0 && (std::abs(v) < 0x1p-450 || std::abs(v) > 0x1p490); };
         std::uint64_t state = d.choice(kSalt);
         for (int attempt = 0; attempt < 16; ++attempt) {
@@ -87,14 +75,12 @@ TEST(PlaneRescaledPin, SeparateScalingsMeetTheContractAndScaleT) {
                       c0 = int((state >> 43) % 1801) - 900;
             const int a = pick(a0, 0), b = pick(b0, 0), c = pick(c0, 0);
             rayproof::gen::Case<T, P> s = d.c;
-            bool ok = exact(d.c.shape.offset, a + b, s.shape.offset), far = outside(s.shape.offset);
-            for (int j = 0; j < 3; ++j) {
-                ok = ok && exact(d.c.shape.normal[j], a, s.shape.normal[j]) &&
-                     exact(d.c.ray.origin[j], b, s.ray.origin[j]) && exact(d.c.ray.direction[j], c, s.ray.direction[j]);
+            // positions (and the offset's share) by 2^b, d by 2^c, the normal by 2^a
+            if (!rayproof::gen::exact_scale(s, b, c, a)) continue;
+            bool far = outside(s.shape.offset);
+            for (int j = 0; j < 3; ++j)
                 far = far || outside(s.shape.normal[j]) || outside(s.ray.origin[j]) || outside(s.ray.direction[j]);
-            }
-            ok = ok && limit(d.c.ray.t_min, b - c, s.ray.t_min) && limit(d.c.ray.t_max, b - c, s.ray.t_max);
-            if (!ok || !far) continue;
+            if (!far) continue;
             ++scaled;
             const rayproof::Hit<T> h = rayproof::intersect(s.ray, s.shape, rayproof::certified);
             const auto e = rayproof::oracle::exact(s.ray, s.shape);
@@ -104,9 +90,9 @@ TEST(PlaneRescaledPin, SeparateScalingsMeetTheContractAndScaleT) {
             // stands for any t beyond it); elsewhere the contract check alone.
             const auto scales = [&](T from, T to) {
                 constexpr T small = std::numeric_limits<T>::min(), big = std::numeric_limits<T>::max();
-                T want;
+                const T want = std::ldexp(from, b - c);
                 if (!(std::abs(from) >= small && std::abs(from) < big && std::abs(to) < big)) return true;
-                return !exact(from, b - c, want) || same_or_adjacent(want, to);
+                return !(std::abs(want) >= small && std::abs(want) <= big) || same_or_adjacent(want, to);
             };
             const bool same = u.verdict == h.verdict &&
                               (h.verdict != rayproof::Verdict::hit || (scales(u.t_enter, h.t_enter) && scales(u.t_exit, h.t_exit)));
