@@ -10,6 +10,14 @@
 //     q(g) (sign_at), at the floats around both roots, where q changes sign;
 //   - lanes::exact_product: hi + lo is the exact product in both lanes, over the range
 //     its callers guard (zeros, short and full mantissas, products near 2^-900);
+//   - quotient_sums_short_first: the same bits as quotient_sums, short factors or not;
+//   - word_sign, word_difference and word_compare (the exact stages' comparisons from
+//     the pairs): on fine sums, the enclosure of N1·D2 - N2·D1 and of N - c·D always
+//     holds, and whenever they decide, the sign is the exact sign of N, of N1/D1 - N2/D2
+//     and of N/D - c,
+//     on random, nearly equal and exactly equal quotients (scaled copies) and against
+//     the rounded quotient and its neighbours; exact ties of integer-like sums are
+//     decided (not dead), and so is nearly every generic comparison;
 //   - plane_pin (the certified plane's straight-line path): every claim it makes is
 //     exact (t strictly between c's neighbours, the rough enclosure, t == 0, a ray in
 //     or parallel to the plane), on generic, cancelling, nearly parallel, integer and
@@ -26,13 +34,17 @@
 #include <gmpxx.h>
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace {
@@ -149,6 +161,144 @@ TEST(QuotientSums, ExactSumsHaveZeroBoundAndOutOfRangeIsRejected) {
     EXPECT_EQ(bits(in_range(make(0x1p1000, 0x1p1001), splat(0x1p1000))), 1);
     const double tiny[2][3] = {{0x1p-600, 1, 1}, {1, 1, 1}}, one[2][3] = {{1, 1, 1}, {1, 1, 1}};
     EXPECT_FALSE((make_sums<3>(1, 1, tiny, one).qs.ok));  // a product whose error term could be lost
+}
+
+TEST(QuotientSumsShortFirst, SameBitsAsQuotientSums) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    using namespace rayproof::detail::lanes;
+    const auto same = [](D2 a, D2 b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+    int short_inputs = 0;
+    for (int it = 0; it < 40000; ++it) {
+        const int e = (it % 2) ? 99 : 20;
+        D2 a[6], b[6];
+        bool all_short = true;
+        M2 in = in_range(splat(1.0));
+        for (int k = 0; k < 6; ++k) {
+            double v[4];
+            for (double& x : v) {
+                x = (rng() % 8 == 0) ? 0.0 : random_double(rng, e);
+                if (it % 3 == 0)  // often short: the leading 20 bits
+                    x = std::bit_cast<double>(std::bit_cast<std::uint64_t>(x) & ~((std::uint64_t(1) << 33) - 1));
+                all_short = all_short && lanes::high26(x) == x;
+            }
+            a[k] = make(v[0], v[1]);
+            b[k] = make(v[2], v[3]);
+            in = in & in_range(a[k]) & in_range(b[k]);
+        }
+        short_inputs += all_short;
+        const D2 start = make(random_double(rng, e), 0.0);
+        const QuotientSums x = quotient_sums(start, a, b, in), y = quotient_sums_short_first(start, a, b, in);
+        ASSERT_TRUE(same(x.hi, y.hi) && same(x.lo, y.lo) && same(x.bound, y.bound) && x.ok == y.ok) << "case " << it;
+    }
+    EXPECT_GT(short_inputs, 1000);  // the shortcut is taken
+}
+
+// Fine sums (compensated.hpp's word_compare): N and D of P products each, every input 0
+// or in [2^-100, 2^99), mantissas short or full; `integers` makes every input a small
+// integer (exact sums, bound 0).
+template <int P> Sums fine_sums(std::mt19937_64& rng, bool integers) {
+    double x[2][P], y[2][P];
+    const auto value = [&] {
+        if (integers) return double(int(rng() % 17) - 8);
+        return (rng() % 8 == 0) ? 0.0 : random_double(rng, 99);
+    };
+    for (int l = 0; l < 2; ++l)
+        for (int k = 0; k < P; ++k) x[l][k] = value(), y[l][k] = value();
+    return make_sums<P>(value(), 0.0, x, y);
+}
+// The same sums with N and D both times f (a power of two, or 3), every start and one
+// factor of each product multiplied (exactly for a power of two; for 3 only where the
+// products stay exact: the comparison's truth is computed from the inputs anyway).
+template <int P> Sums scaled_copy(const double (&x)[2][P], const double (&y)[2][P], double n0, double f) {
+    double x2[2][P];
+    for (int l = 0; l < 2; ++l)
+        for (int k = 0; k < P; ++k) x2[l][k] = x[l][k] * f;
+    return make_sums<P>(n0 * f, 0.0, x2, y);
+}
+WordQuotient word_of(const Sums& s) { return unpack(s.qs); }
+
+TEST(WordCompare, ExactWheneverDecided) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    int decided[5] = {}, tried[5] = {}, signs_decided = 0, integer_ties = 0, integer_ties_decided = 0;
+    for (int it = 0; it < 50000; ++it) {
+        // 0 random, 1 integers, 2 a scaled copy (a tie), 3 one input nudged by an ulp, 4
+        // the same with N cancelling to its rounding errors (the sums' bounds matter)
+        const int kind = it % 5;
+        constexpr int P = 3;
+        double x[2][P], y[2][P], n0;
+        const bool integers = kind == 1 || (kind == 2 && it % 8 == 2);
+        const auto value = [&] {  // for nudged copies, terms of like magnitude (a nudge not lost below u^2)
+            if (integers) return double(int(rng() % 17) - 8);
+            return (rng() % 8 == 0) ? 0.0 : random_double(rng, kind >= 3 ? 4 : 90);
+        };
+        for (int l = 0; l < 2; ++l)
+            for (int k = 0; k < P; ++k) x[l][k] = value(), y[l][k] = value();
+        n0 = value();
+        if (kind == 4) {
+            n0 = 0;
+            for (int k = 0; k < P; ++k) n0 -= x[0][k] * y[0][k];
+        }
+        const Sums a = make_sums<P>(n0, 0.0, x, y);
+        Sums b;
+        if (kind == 2) {
+            b = scaled_copy<P>(x, y, n0, (it % 3 == 0) ? 3.0 : std::ldexp(1.0, int(rng() % 9) - 4));
+        } else if (kind >= 3) {
+            double x2[2][P];
+            std::memcpy(x2, x, sizeof x2);
+            double& v = x2[rng() % 2][rng() % P];
+            if (v != 0) v = (rng() % 2) ? std::nextafter(v, HUGE_VAL) : std::nextafter(v, -HUGE_VAL);
+            b = make_sums<P>(n0, 0.0, x2, y);
+        } else {
+            b = fine_sums<P>(rng, integers);
+        }
+        if (!a.qs.ok || !b.qs.ok) continue;
+        const std::string what = "case " + std::to_string(it) + ": " + a.text + " against " + b.text;
+        // word_sign of each lane
+        for (const auto& [hi, bound, exact] : {std::tuple{word_of(a).n, word_of(a).bn, a.N}, std::tuple{word_of(a).d, word_of(a).bd, a.D}})
+            if (const std::optional<int> sg = word_sign(hi, bound)) {
+                ASSERT_EQ(*sg, sgn(exact)) << what << ": word_sign";
+                ++signs_decided;
+            }
+        if (sgn(a.D) == 0 || sgn(b.D) == 0) continue;
+        // the difference's enclosure holds, decided or not
+        const WordDifference wd = word_difference(word_of(a), word_of(b));
+        const mpq_class X = a.N * b.D - b.N * a.D;
+        ASSERT_LE(abs_q(X - Q(wd.s) - Q(wd.r)), Q(wd.B)) << what << ": word_difference";
+        const int truth = sgn(X) * sgn(a.D) * sgn(b.D);
+        // a nudge that changed nothing (a zero factor beside it) is a tie of inexact
+        // sums, which the pairs cannot tell from a tiny difference: not counted
+        const bool counted = !(kind >= 3 && truth == 0);
+        tried[kind] += counted;
+        const bool integer_tie = kind == 2 && integers && truth == 0;
+        integer_ties += integer_tie;
+        if (const std::optional<int> s = word_compare(word_of(a), word_of(b))) {
+            ASSERT_EQ(*s, truth) << what;
+            decided[kind] += counted;
+            integer_ties_decided += integer_tie;
+        }
+        // against the rounded quotient, its neighbours and a constant in range
+        const double q = mpq_class(a.N / a.D).get_d();
+        for (const double c : {q, std::nextafter(q, -HUGE_VAL), std::nextafter(q, HUGE_VAL), 0.0, random_double(rng, 60)}) {
+            if (!std::isfinite(c)) continue;
+            if (c != 0 && !(std::abs(c) >= 0x1p-300 && std::abs(c) <= 0x1p300)) continue;
+            const WordDifference wc = word_difference(word_of(a), c);
+            ASSERT_LE(abs_q(a.N - Q(c) * a.D - Q(wc.s) - Q(wc.r)), Q(wc.B)) << what << ": word_difference against " << hex(c);
+            if (const std::optional<int> s = word_compare(word_of(a), c)) {
+                ASSERT_EQ(*s, sgn(mpq_class(a.N / a.D - Q(c)))) << what << ": against " << hex(c);
+            }
+        }
+    }
+    // Not dead: generic comparisons, exact ties of integer-like sums and one-ulp
+    // differences are nearly all decided from the pairs.
+    EXPECT_GT(decided[0], tried[0] * 99 / 100);
+    EXPECT_GT(decided[1], tried[1] * 99 / 100);
+    EXPECT_GT(integer_ties, 1000);
+    EXPECT_EQ(integer_ties_decided, integer_ties);
+    EXPECT_GT(decided[3], tried[3] * 9 / 10);
+    EXPECT_GT(decided[4], tried[4] / 2);
+    EXPECT_GT(signs_decided, 40000);
 }
 
 // r is q faithfully rounded (the shared helper, faithful.hpp) and finite.

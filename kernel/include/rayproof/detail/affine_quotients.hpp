@@ -17,18 +17,102 @@
 #pragma once
 
 #include <rayproof/detail/certified.hpp>
+#include <rayproof/detail/compensated.hpp>
+#include <rayproof/detail/eft.hpp>
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/float_util.hpp>
+#include <rayproof/detail/lanes.hpp>
 #include <rayproof/detail/rounding.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <cstring>
 #include <limits>
 #include <optional>
 #include <utility>
 
 namespace rayproof::detail {
+
+// The shifts that put affine quotients' input into [2^-100, 2^100] (or 0): the positions
+// by 2^sp, the rows by 2^sa, the h_i by 2^(sp + sa), the directions by 2^sd, from each
+// group's binary exponents, where such shifts exist (each group's shifts form a range,
+// ExponentSpan, and the h_i's range bounds sp + sa); none where a range is empty.
+struct AffineShifts {
+    int sp, sa, sd;
+};
+inline std::optional<AffineShifts> affine_shifts(const ExponentSpan& positions, const ExponentSpan& rows,
+                                                 const ExponentSpan& halves, const ExponentSpan& directions) {
+    const std::optional<int> sd = directions.safe_shift();
+    const ShiftRange p = positions.shift_range(), a = rows.shift_range(), h = halves.shift_range();
+    // sp + sa in [p.lo + a.lo, p.hi + a.hi] ∩ [h.lo, h.hi]; then sp and sa within their own
+    const int lo = std::max(p.lo + a.lo, h.lo), hi = std::min(p.hi + a.hi, h.hi);
+    if (!sd || p.lo > p.hi || a.lo > a.hi || lo > hi) return std::nullopt;
+    const int sum = std::clamp(0, lo, hi), sp = std::max(p.lo, sum - a.hi);
+    return AffineShifts{sp, sum - sp, *sd};
+}
+
+// sign(n1/d1 - n2/d2) for exact sums (GrowingSum, not full; d1 and d2 nonzero):
+// sign(n1·d2 - n2·d1)·sign(d1·d2) from their components' products (sign_cross_difference),
+// which the caller vouches exact (products_exact) or which are checked here
+// (exact_products); where they are not exact as they stand, the numerators are scaled
+// alike by 2^kn and the denominators by 2^kd (exactly, GrowingSum::scale) to bring their
+// largest components near 1, which multiplies n1·d2 - n2·d1 by 2^(kn + kd): the
+// directions' and the positions' binades then need not fit one range together. None
+// where a check or the capacity fails.
+template <class N, class D> std::optional<int> compare_sums(N n1, D d1, N n2, D d2, bool products_exact) {
+    if (!products_exact && !(exact_products(n1, d2) && exact_products(n2, d1))) {
+        const int kn = -std::max(n1.top(), n2.top()), kd = -std::max(d1.top(), d2.top());
+        if (!(n1.scale(kn) && n2.scale(kn) && d1.scale(kd) && d2.scale(kd) && exact_products(n1, d2) &&
+              exact_products(n2, d1)))
+            return std::nullopt;
+    }
+    const std::optional<int> s = sign_cross_difference<32>(n1, d2, n2, d1);
+    if (!s) return std::nullopt;
+    return *s * d1.sign() * d2.sign();
+}
+// sign(n/d - c) for a finite constant c: sign(n - c·d)·sign(d), each product c·d_k
+// checked (exact_product); none where one is not exact or the capacity fails.
+template <class N, class D> std::optional<int> compare_sums(const N& n, const D& d, double c) {
+    GrowingSum<32> s;
+    for (int k = 0; k < n.n; ++k) s.add(n.e[k]);
+    for (int k = 0; k < d.n; ++k) {
+        if (!exact_product(c, d.e[k])) return std::nullopt;
+        s.add_product(-c, d.e[k]);
+    }
+    if (s.full) return std::nullopt;
+    return s.sign() * d.sign();
+}
+
+// The sums of the quotient (s - a·(o - c))/(a·d), s = -h (side 0) or h (side 1), for
+// pin_quotient and the comparisons of detail/compensated.hpp: o_j - c_j split exactly by
+// two_sum, the products -a_j·(o_j - c_j) in two parts in lane 0 and a_j·d_j in lane 1 of
+// quotient_sums; where every o_j - c_j is a double, without the three zero products (the
+// same sums, with the bound of three products). Shared by ray_obb.hpp's obb_slab_sums
+// and AffineQuotients::sums (ShortFirst: quotient_sums_short_first, the same bits), so
+// that the two give the same bits on the same input.
+template <bool ShortFirst = false>
+RAYPROOF_ALWAYS_INLINE QuotientSums affine_row_sums(double h, int side, const double (&a)[3], const double (&o)[3],
+                                                    const double (&c)[3], const double (&d)[3]) {
+    using namespace lanes;
+    D2 x[6], f[6];
+    M2 inputs = in_range(make(h, 0.0));
+    bool split = false;  // some o_j - c_j is not a double
+    for (int j = 0; j < 3; ++j) {
+        const Pair oc = two_sum(o[j], -c[j]);
+        x[j] = make(-a[j], a[j]);
+        f[j] = make(oc.hi, d[j]);
+        x[3 + j] = make(-a[j], 0.0);
+        f[3 + j] = make(oc.lo, 0.0);
+        inputs = inputs & in_range(x[j]) & in_range(f[j]) & in_range(f[3 + j]);
+        split = split || oc.lo != 0;
+    }
+    const D2 start = make(side ? h : -h, 0.0), x3[3] = {x[0], x[1], x[2]}, f3[3] = {f[0], f[1], f[2]};
+    if constexpr (ShortFirst)
+        return split ? quotient_sums_short_first(start, x, f, inputs) : quotient_sums_short_first(start, x3, f3, inputs);
+    else
+        return split ? quotient_sums(start, x, f, inputs) : quotient_sums(start, x3, f3, inputs);
+}
 
 // The input of AffineQuotients in double: a[i][j] is row i's component j.
 template <int R> struct AffineValues {
@@ -38,20 +122,24 @@ template <int R> struct AffineValues {
 template <int R> class AffineQuotients {
 public:
     // floats: the values are floats widened (every float is safe for expansions).
+    // Safe: every value expansion_safe (0 or of magnitude in [2^-100, 2^100]), tested two
+    // at a time (lanes::in_band) over the values as one array.
     AffineQuotients(const AffineValues<R>& v, bool floats) : v_(v), shift_(0) {
         safe_ = true;
         if (!floats) {
-            for (int j = 0; j < 3; ++j)
-                safe_ = safe_ && expansion_safe(v.o[j]) && expansion_safe(v.c[j]) && expansion_safe(v.d[j]);
-            for (int i = 0; i < R; ++i) {
-                safe_ = safe_ && expansion_safe(v.h[i]);
-                for (int j = 0; j < 3; ++j) safe_ = safe_ && expansion_safe(v.a[i][j]);
-            }
+            using namespace lanes;
+            constexpr std::size_t n = 9 + 4 * std::size_t(R);
+            static_assert(sizeof(AffineValues<R>) == n * sizeof(double));
+            double x[n + 1];
+            std::memcpy(x, &v, sizeof v);
+            x[n] = 0;
+            M2 ok = splat(0.0) == splat(0.0);
+            for (std::size_t k = 0; k < n; k += 2) ok = ok & in_band(load2(x + k), splat(0x1p-100), splat(0x1p100));
+            safe_ = bits(ok) == 3;
         }
     }
     // The input rescaled as above with every scaled value in [2^-100, 2^100] or 0, where
-    // such sp, sa, sd exist: each group's shifts form a range (ExponentSpan), and the
-    // h_i's range bounds sp + sa; none where a range is empty.
+    // such shifts exist (affine_shifts); none otherwise.
     static std::optional<AffineQuotients> rescaled(const AffineValues<R>& v) {
         ExponentSpan positions, rows, halves, directions;
         for (int j = 0; j < 3; ++j) {
@@ -61,24 +149,17 @@ public:
             for (int i = 0; i < R; ++i) rows.add(v.a[i][j]);
         }
         for (int i = 0; i < R; ++i) halves.add(v.h[i]);
-        const std::optional<int> sd = directions.safe_shift();
-        const ShiftRange p = positions.shift_range(), a = rows.shift_range(), h = halves.shift_range();
-        // sp + sa in [p.lo + a.lo, p.hi + a.hi] ∩ [h.lo, h.hi]; then sp and sa within their own
-        const int lo = std::max(p.lo + a.lo, h.lo), hi = std::min(p.hi + a.hi, h.hi);
-        if (!sd || p.lo > p.hi || a.lo > a.hi || lo > hi) return std::nullopt;
-        const int sum = std::clamp(0, lo, hi), sp = std::max(p.lo, sum - a.hi), sa = sum - sp;
+        const std::optional<AffineShifts> s = affine_shifts(positions, rows, halves, directions);
+        if (!s) return std::nullopt;
         AffineValues<R> w = v;
         for (int j = 0; j < 3; ++j) {
-            w.o[j] = times_pow2(v.o[j], sp);
-            w.c[j] = times_pow2(v.c[j], sp);
-            w.d[j] = times_pow2(v.d[j], *sd);
-            for (int i = 0; i < R; ++i) w.a[i][j] = times_pow2(v.a[i][j], sa);
+            w.o[j] = times_pow2(v.o[j], s->sp);
+            w.c[j] = times_pow2(v.c[j], s->sp);
+            w.d[j] = times_pow2(v.d[j], s->sd);
+            for (int i = 0; i < R; ++i) w.a[i][j] = times_pow2(v.a[i][j], s->sa);
         }
-        for (int i = 0; i < R; ++i) w.h[i] = times_pow2(v.h[i], sum);
-        std::optional<AffineQuotients> q(std::in_place, w, false);
-        q->shift_ = sp - *sd;
-        q->safe_ = true;
-        return q;
+        for (int i = 0; i < R; ++i) w.h[i] = times_pow2(v.h[i], s->sp + s->sa);
+        return AffineQuotients(w, s->sp - s->sd);
     }
     int shift() const { return shift_; }
     bool safe() const { return safe_; }
@@ -96,72 +177,75 @@ public:
     // The exact signs of num(i, side) and den(i) from their sums (quick_compare's), or
     // none where a checked product is not exact.
     std::optional<int> num_sign(int i, int side) const {
+        if (const std::optional<WordQuotient> w = word(i, side))
+            if (const std::optional<int> s = word_sign(w->n, w->bn)) return s;
         const GrowingSum<16> s = num_sum(i, side);
         if (s.full) return std::nullopt;
         return s.sign();
     }
     std::optional<int> den_sign(int i) const {
+        if (const std::optional<WordQuotient> w = word(i, 0))
+            if (const std::optional<int> s = word_sign(w->d, w->bd)) return s;
         const GrowingSum<8> s = den_sum(i);
         if (s.full) return std::nullopt;
         return s.sign();
     }
-    // exact_compare's sign without an expansion type. num = ±h_i - Σ_j a_ij o_j +
-    // Σ_j a_ij c_j and den = Σ_j a_ij d_j as sums of error-free products (13 and 6
-    // doubles), compressed; then sign(n1 d2 - n2 d1)·sign(d1 d2) from their components'
-    // products, or sign(n - c·den)·sign(den) for a constant c.
-    // For safe() input (every value 0 or a multiple of 2^-152 below 2^100; every float a
-    // multiple of 2^-149 below 2^128) every product of two inputs is exact by two_prod
-    // (its error term a multiple of 2^-304), and so is every product of the sums'
-    // components (multiples of 2^-608, far above the 2^-916 two_prod needs, and below
-    // 2^410). For other input every product is checked instead (exact_product,
-    // exact_products; h_i below 2^1000), and where the sums' products are not
-    // exact as they stand, the numerators are scaled alike by 2^kn and the denominators by
-    // 2^kd (exactly, GrowingSum::scale) to bring their largest components near 1, which
-    // multiplies n1 d2 - n2 d1 by 2^(kn + kd): the directions' and the positions'
-    // binades then need not fit one range together. The products by c are checked in
-    // both cases. None where a check or a capacity fails.
+    // exact_compare's sign without an expansion type: from the double-word pairs where
+    // they decide (word_compare), else from num = ±h_i - Σ_j a_ij o_j + Σ_j a_ij c_j and
+    // den = Σ_j a_ij d_j as sums of error-free products (13 and 6 doubles), compressed
+    // (compare_sums). For safe() input (every value 0 or a multiple of 2^-152 below
+    // 2^100; every float a multiple of 2^-149 below 2^128) every product of two inputs is
+    // exact by two_prod (its error term a multiple of 2^-304), and so is every product
+    // of the sums' components (multiples of 2^-608, far above the 2^-916 two_prod needs,
+    // and below 2^410). For other input every product is checked instead (exact_product;
+    // h_i below 2^1000) and compare_sums checks theirs. None where a check or a
+    // capacity fails.
     std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const {
         if (a.axis < 0) {
             const std::optional<int> s = quick_compare(b, a);
             if (!s) return std::nullopt;
             return -*s;
         }
-        GrowingSum<16> n1 = num_sum(a.axis, a.side);
-        GrowingSum<8> d1 = den_sum(a.axis);
+        if (const std::optional<int> s = word_compare(a, b)) return s;
+        const GrowingSum<16> n1 = num_sum(a.axis, a.side);
+        const GrowingSum<8> d1 = den_sum(a.axis);
         if (n1.full || d1.full) return std::nullopt;
-        if (b.axis >= 0) {
-            GrowingSum<16> n2 = num_sum(b.axis, b.side);
-            GrowingSum<8> d2 = den_sum(b.axis);
-            if (n2.full || d2.full) return std::nullopt;
-            if (!safe_ && !(exact_products(n1, d2) && exact_products(n2, d1))) {
-                const int kn = -std::max(n1.top(), n2.top()), kd = -std::max(d1.top(), d2.top());
-                if (!(n1.scale(kn) && n2.scale(kn) && d1.scale(kd) && d2.scale(kd) && exact_products(n1, d2) &&
-                      exact_products(n2, d1)))
-                    return std::nullopt;
-            }
-            const std::optional<int> s = sign_cross_difference<32>(n1, d2, n2, d1);
-            if (!s) return std::nullopt;
-            return *s * d1.sign() * d2.sign();
-        }
-        GrowingSum<32> s;
-        for (int k = 0; k < n1.n; ++k) s.add(n1.e[k]);
-        for (int k = 0; k < d1.n; ++k) {
-            if (!exact_product(b.c, d1.e[k])) return std::nullopt;
-            s.add_product(-b.c, d1.e[k]);
-        }
-        if (s.full) return std::nullopt;
-        return s.sign() * d1.sign();
+        if (b.axis < 0) return compare_sums(n1, d1, b.c);
+        const GrowingSum<16> n2 = num_sum(b.axis, b.side);
+        const GrowingSum<8> d2 = den_sum(b.axis);
+        if (n2.full || d2.full) return std::nullopt;
+        return compare_sums(n1, d1, n2, d2, safe_);
     }
 
-    // num(i, side)/den(i) faithfully rounded to T without an expansion type, as
-    // faithful_quotient finds it (exact_impl::quotient): from a candidate, the sums'
-    // estimates divided (rounded to T), stepped one T at a time towards the quotient
-    // until sign(num - g·den) changes (at most four steps), each sign from the sums and
-    // the products g·den_k (checked: exact_product). The answer is the candidate's
-    // neighbour on its own side of the quotient, or the quotient itself. None where a
-    // sum or a product is not exact, the candidate is not a normal T, or four steps do
-    // not suffice.
+    // num(i, side)/den(i) pinned from the double-word pairs (pin_quotient on sums(i,
+    // side)): a faithful double for the quotient of this input (times 2^shift() for the
+    // rescaled one), or none.
+    std::optional<double> pinned(int i, int side) const {
+        if (const QuotientSums* q = sums(i, side))
+            if (const PinnedQuotient p = pin_quotient(*q); p.pinned) return p.c;
+        return std::nullopt;
+    }
+    // sign(value(a) - value(b)) from the double-word pairs (a.axis >= 0; a constant as it
+    // stands, already scaled by 2^shift() for the rescaled input; word_compare), or none.
+    std::optional<int> word_compare(const SlabRef& a, const SlabRef& b) const {
+        const std::optional<WordQuotient> x = word(a.axis, a.side);
+        if (!x) return std::nullopt;
+        if (b.axis < 0) return detail::word_compare(*x, b.c);
+        const std::optional<WordQuotient> y = word(b.axis, b.side);
+        if (!y) return std::nullopt;
+        return detail::word_compare(*x, *y);
+    }
+
+    // num(i, side)/den(i) faithfully rounded to T without an expansion type: pinned()
+    // first, else as faithful_quotient finds it (exact_impl::quotient): from a candidate,
+    // the sums' estimates divided (rounded to T), stepped one T at a time towards the
+    // quotient until sign(num - g·den) changes (at most four steps), each sign from the
+    // sums and the products g·den_k (checked: exact_product). The answer is the
+    // candidate's neighbour on its own side of the quotient, or the quotient itself. None
+    // where a sum or a product is not exact, the candidate is not a normal T, or four
+    // steps do not suffice.
     template <class T> std::optional<T> quick_faithful(int i, int side) const {
+        if (const std::optional<double> c = pinned(i, side)) return faithful_to<T>(*c);
         const GrowingSum<16> n = num_sum(i, side);
         const GrowingSum<8> d = den_sum(i);
         if (n.full || d.full || d.n == 0) return std::nullopt;
@@ -195,6 +279,26 @@ public:
     }
 
 private:
+    // The rescaled input: every value 0 or in [2^-100, 2^100], safe by construction.
+    AffineQuotients(const AffineValues<R>& v, int shift) : v_(v), shift_(shift), safe_(true) {}
+    // The double-word tier, first in quick_compare, num_sign, den_sign and quick_faithful
+    // on safe() input: num(i, side) and den(i) as affine_row_sums makes them (so that on
+    // the box's input as given they are ray_obb.hpp's obb_slab_sums bit for bit), fine
+    // sums there (detail/compensated.hpp; safe() input, the rescaled one included), made
+    // once per value, on first use; none where the sums are not ok.
+    const QuotientSums* sums(int i, int side) const {
+        if (!safe_) return nullptr;
+        const int k = 2 * i + side;
+        if (!((made_ >> k) & 1u)) {
+            sums_[k] = affine_row_sums<true>(v_.h[i], side, v_.a[i], v_.o, v_.c, v_.d);
+            made_ |= 1u << k;
+        }
+        return sums_[k].ok ? &sums_[k] : nullptr;
+    }
+    std::optional<WordQuotient> word(int i, int side) const {
+        if (const QuotientSums* q = sums(i, side)) return unpack(*q);
+        return std::nullopt;
+    }
     // num(i, side) and den(i) as quick_compare takes them (its derivation): exact, with
     // room for every term; `full` where a checked product is not exact.
     GrowingSum<16> num_sum(int i, int side) const {
@@ -230,7 +334,27 @@ private:
     AffineValues<R> v_;
     int shift_;
     bool safe_;
+    mutable QuotientSums sums_[2 * std::size_t(R)];
+    mutable unsigned made_ = 0;  // bit 2i + side: sums_ made
 };
+
+// num(i, side)/den(i) faithfully rounded to T from q's pinned value (AffineQuotients::
+// pinned), for q the input as given (shift() == 0) or rescaled: a pinned c' is faithful
+// for 2^shift·t and at least 2^-900 in magnitude (pin_quotient), so c'·2^-shift, where
+// that is exact and c' normal, is faithful for t (exact_faithful's argument,
+// detail/certified.hpp); a faithful double rounded to nearest T is a faithful T
+// (faithful_to). None otherwise.
+template <class T, int R> std::optional<T> word_faithful(const AffineQuotients<R>& q, int i, int side) {
+    std::optional<double> c = q.pinned(i, side);
+    if (!c) return std::nullopt;
+    if (q.shift() != 0) {
+        const double a = std::abs(*c);
+        if (!(a >= std::numeric_limits<double>::min() && a < std::numeric_limits<double>::max() &&
+              scale_exactly(*c, -q.shift(), *c)))
+            return std::nullopt;
+    }
+    return faithful_to<T>(*c);
+}
 
 // The exact side of a frame whose slab values are affine quotients (ObbFrame, ray_obb.hpp;
 // PlaneCrossing, ray_plane.hpp), as a source of exact quotients: the quotients on the
@@ -246,6 +370,12 @@ public:
     std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const { return given().quick_compare(a, b); }
     template <class U> std::optional<U> quick_faithful(int i, int side) const {
         return given().template quick_faithful<U>(i, side);
+    }
+    // word_faithful on the input as given where it is safe, else on the rescaled one.
+    template <class U> std::optional<U> word_faithful(int i, int side) const {
+        if (safe()) return detail::word_faithful<U>(given(), i, side);
+        if (const std::optional<AffineQuotients<R>>& s = scaled()) return detail::word_faithful<U>(*s, i, side);
+        return std::nullopt;
     }
     const std::optional<AffineQuotients<R>>& scaled() const {
         if (!scaled_made_) {

@@ -79,6 +79,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <optional>
 
 namespace rayproof::detail {
 
@@ -113,6 +114,37 @@ RAYPROOF_ALWAYS_INLINE QuotientSums quotient_sums(lanes::D2 start, const lanes::
     return {r.hi, r.lo, S * splat(K), bits(inputs_in_range & renormal) == 3};
 }
 
+// quotient_sums, with the products taken as they stand where every factor has at most
+// 26 significant bits (high26(x) == x): each product is then exact (at most 52 bits,
+// no underflow in the range), so exact_product would give hi = fl(a·b) = a·b and lo =
+// +0 (its error terms cancel exactly, and a sum of exact zeros led by +0 is +0), and
+// these are the same sums bit for bit, without the splits. In range every factor is
+// normal or 0, where the test means the same under any denormal mode; out of range the
+// sums are not ok either way. Contraction (class C1 of eft.hpp) cannot change an
+// exact product. For the exact stages' comparisons, where integer-like input (rays
+// through a box's corners) is the common case; the straight-line paths keep
+// quotient_sums (the test would cost them more than it saves on general input).
+template <std::size_t P>
+RAYPROOF_ALWAYS_INLINE QuotientSums quotient_sums_short_first(lanes::D2 start, const lanes::D2 (&a)[P],
+                                                              const lanes::D2 (&b)[P], lanes::M2 inputs_in_range) {
+    using namespace lanes;
+    static_assert(P >= 1 && P <= 6);
+    int short_factors = 3;
+    for (std::size_t k = 0; k < P; ++k) short_factors &= bits(high26(a[k]) == a[k]) & bits(high26(b[k]) == b[k]);
+    if (short_factors != 3) return quotient_sums(start, a, b, inputs_in_range);
+    constexpr double K = 2 * gamma<double>(2 * static_cast<int>(P) - 1);
+    D2 s = start, c = splat(0.0), S = splat(0.0);
+    for (std::size_t k = 0; k < P; ++k) {
+        const SumOf<D2> x = two_sum(s, a[k] * b[k]);
+        s = x.hi;
+        c = (c + x.lo) + splat(0.0);
+        S = (S + abs(x.lo)) + splat(0.0);
+    }
+    const SumOf<D2> r = fast_two_sum(s, c);
+    const M2 renormal = (abs(c) <= abs(s)) | (s == splat(0.0));
+    return {r.hi, r.lo, S * splat(K), bits(inputs_in_range & renormal) == 3};
+}
+
 // t = N/D pinned: t lies strictly between the two neighbours of c when pinned.
 struct PinnedQuotient {
     double c;
@@ -137,6 +169,108 @@ RAYPROOF_ALWAYS_INLINE PinnedQuotient pin_quotient(const QuotientSums& s) {
     const double rhs = (u * ac) * (std::abs(dh) * (1 - 0x1p-40) - 4 * bd);
     const bool pinned = int(s.ok) & int(bits(scale_ok) == 3) & int(ac >= 0x1p-900) & int(lhs < rhs);
     return {cand, pinned};
+}
+
+// Comparisons from the pairs (word_sign, word_compare): the exact sign of N, of N1/D1 -
+// N2/D2 and of N/D - c, or none where the bounds do not decide it; between the interval
+// filter and the exact sums, for the comparisons of the slab method's general path
+// (an entry against the latest one, an exit against the earliest, each against t_min
+// or t_max) where two values are equal or nearly so (rays through edges and corners).
+// WordQuotient: N = n + nl + e_N with |nl| <= u|n| and |e_N| <= bn, D alike.
+// Fine sums: quotient_sums over inputs each 0 or a multiple of 2^-152 of magnitude at
+// most 2^128 (expansion_safe doubles, 0 or in [2^-100, 2^100]; every float), P <= 6.
+// Then every component of a pair is 0 or a multiple of 2^-304 below 2^260 (sums of at
+// most seven such products), every nonzero bound at least 2^-360 (K·S, S a nonzero sum
+// of such components, K >= 2u): every product of two components is exact by two_prod
+// (its error a multiple of 2^-608) and every rounded product below normal (>= 2^-720):
+// no underflow anywhere in what follows.
+struct WordQuotient {
+    double n, nl, bn, d, dl, bd;
+};
+RAYPROOF_ALWAYS_INLINE WordQuotient unpack(const QuotientSums& q) {
+    using lanes::lane0, lanes::lane1;
+    return {lane0(q.hi), lane0(q.lo), lane0(q.bound), lane1(q.hi), lane1(q.lo), lane1(q.bound)};
+}
+
+// The exact sign of x = hi + lo + e with |lo| <= u|hi| and |e| <= b, or none: sign(hi)
+// when b == 0 (hi == 0 forces lo == 0), or when |x - hi| <= u|hi| + b < |hi|, which the
+// test implies: fl(|hi|·(1 - 2u)) <= |hi|(1 - 2u)(1 + u) < |hi|(1 - u).
+inline std::optional<int> word_sign(double hi, double b) {
+    constexpr double u = unit_roundoff<double>;
+    if (b == 0 || std::abs(hi) * (1 - 2 * u) > b) return (hi > 0) - (hi < 0);
+    return std::nullopt;
+}
+
+// X = N1·D2 - N2·D1 for fine sums x and y as s + r within B: the pairs' part n1'·d2' -
+// n2'·d1' (n1' = n1 + nl1, ...) is s + s' + Σ_k t_k exactly, with (p, p') = two_prod(n1,
+// d2), (q, q') = two_prod(n2, d1), (s, s') = two_sum(p, -q) (each exact: the ranges
+// above) and the nine terms t = s', p', -q', n1·dl2, nl1·d2, -n2·dl1, -nl2·d1, nl1·dl2,
+// -nl2·dl1; r, their sum in that order, is within gamma(9)·T of the exact one, T =
+// Σ|t_k| (a term sees one product's rounding and at most eight additions'; Higham, ASNA,
+// 3.1 and 4.2; contraction, class C1, only removes roundings). The bounds' part:
+//     |N1·D2 - n1'·d2'| <= |n1'|·bd2 + bn1·|d2'| + bn1·bd2, |n1'| <= (1 + u)|n1|,
+// and alike for N2·D1. So |X - (s + r)| <= gamma(9)·T + (1 + u)(|n1|·bd2 + bn1·|d2| +
+// |n2|·bd1 + bn2·|d1|) + bn1·bd2 + bn2·bd1, and the computed B doubles that (covering
+// the factors 1 + u, the terms' roundings and the additions of B). B == 0 means every
+// term and every bound is 0 (none underflows: the ranges above), and then X == s.
+struct WordDifference {
+    double s, r, B;
+};
+inline WordDifference word_difference(const WordQuotient& x, const WordQuotient& y) {
+    constexpr double u = unit_roundoff<double>;
+    const Pair p = two_prod(x.n, y.d), q = two_prod(y.n, x.d), s = two_sum(p.hi, -q.hi);
+    const double t[9] = {s.lo, p.lo, -q.lo, x.n * y.dl, x.nl * y.d, -(y.n * x.dl), -(y.nl * x.d), x.nl * y.dl, -(y.nl * x.dl)};
+    double r = 0, T = 0;
+    for (const double v : t) {
+        r += v;
+        T += std::abs(v);
+    }
+    const double B = 2 * (gamma<double>(9) * T + ((1 + u) * ((std::abs(x.n) * y.bd + x.bn * std::abs(y.d)) +
+                                                             (std::abs(y.n) * x.bd + y.bn * std::abs(x.d))) +
+                                                  (x.bn * y.bd + y.bn * x.bd)));
+    return {s.hi, r, B};
+}
+// Y = N - c·D for a fine sum x and a constant c == 0 or 2^-300 <= |c| <= 2^300 (so that
+// c·d is exact by two_prod and c·dl, |c|·bd normal) as s + r within B: (p, p') =
+// two_prod(c, d), (s, s') = two_sum(n, -p), the terms s', nl, -p', -c·dl (gamma(4)),
+// B = 2(gamma(4)·T + bn + |c|·bd) as above.
+inline WordDifference word_difference(const WordQuotient& x, double c) {
+    const Pair p = two_prod(c, x.d), s = two_sum(x.n, -p.hi);
+    const double t[4] = {s.lo, x.nl, -p.lo, -(c * x.dl)};
+    double r = 0, T = 0;
+    for (const double v : t) {
+        r += v;
+        T += std::abs(v);
+    }
+    return {s.hi, r, 2 * (gamma<double>(4) * T + (x.bn + std::abs(c) * x.bd))};
+}
+// The sign of a difference s + r + E, |E| <= B: z = fl(s + r) has the sign of s + r and
+// |s + r| >= |z|/(1 + u), so |z| > B (which B's doubling leaves room for) gives sign(z);
+// and B == 0 gives it exactly (0 at a tie). None otherwise.
+inline std::optional<int> word_difference_sign(const WordDifference& w) {
+    const double z = w.s + w.r;
+    if (!(w.B == 0 || std::abs(z) > w.B)) return std::nullopt;
+    return (z > 0) - (z < 0);
+}
+
+// sign(N1/D1 - N2/D2) = sign(X)·sign(D1)·sign(D2) for fine sums x and y, the signs of
+// D1 and D2 from word_sign; none where one is unknown or 0, or where X's is.
+inline std::optional<int> word_compare(const WordQuotient& x, const WordQuotient& y) {
+    const std::optional<int> sx = word_sign(x.d, x.bd), sy = word_sign(y.d, y.bd);
+    if (!sx || !sy || *sx == 0 || *sy == 0) return std::nullopt;
+    const std::optional<int> s = word_difference_sign(word_difference(x, y));
+    if (!s) return std::nullopt;
+    return *s * *sx * *sy;
+}
+// sign(N/D - c) = sign(Y)·sign(D) for a fine sum x and a constant c (0, or of magnitude
+// in [2^-300, 2^300]), or none.
+inline std::optional<int> word_compare(const WordQuotient& x, double c) {
+    const double ac = std::abs(c);
+    const std::optional<int> sx = word_sign(x.d, x.bd);
+    if (!sx || *sx == 0 || !(c == 0 || (ac >= 0x1p-300 && ac <= 0x1p300))) return std::nullopt;
+    const std::optional<int> s = word_difference_sign(word_difference(x, c));
+    if (!s) return std::nullopt;
+    return *s * *sx;
 }
 
 }  // namespace rayproof::detail
