@@ -364,8 +364,11 @@ TEST(BoundWitnessDouble, SphereCheapSignsGamma1) {
 // fl(o'_i) ± (2·gamma(4)·Σ|a_ji Δ~_j| + 2^-1022) stepped one double outward, the mutant
 // shrinks to gamma(1)·Σ|a_ji Δ~_j| (and that of d'_i to gamma(1)·Σ|a_ji d_j|).
 // Axes 1 and 2 are e_1 and e_2 and the ray's direction is e_0, so d'_1 = d'_2 = 0: the
-// ray is parallel to those slabs (and inside them), the straight-line path declines (it
-// needs every |d'_i| well away from 0) and the general path decides. Slab 0 has the axis
+// ray is parallel to those slabs (and inside them), and the straight-line path leaves
+// the case to its second stage (obb_certified_stage), which takes slab 0 from its own
+// bounds and only slabs 1 and 2 from the frame's rows; the general path, which the
+// query reaches where the straight-line path cannot round its winners, builds the frame
+// for every slab, and is checked here directly (obb_certified_general). Slab 0 has the axis
 // a ~ (1, 1.1, -1.1) and d'_0 = a_0 exactly. Every input is a float (the witness serves
 // both scalars; the frame computes in double). Computed, o'_0 = fl(fl(x_0 + x_1) + x_2)
 // with x_j = fl(a_j·fl(o_j - c_j)) ~ (1, 1.1, -2.3) (the centre 2^-34 and below, so that
@@ -414,6 +417,11 @@ TYPED_TEST(BoundWitness, ObbFrameBoundGamma1) {
     EXPECT_GT(t0_mutant.lo, double(ray.t_min));
     EXPECT_EQ((-BD(h) - exact_op - BD(double(ray.t_min)) * BD(a[0])).sign(), -1);
     expect_hit_on_face(ray, box, -1);
+    const Hit<T> general = detail::obb_certified_general(ray, box);
+    const oracle::ContractCheck c = oracle::check_contract(ray, box, general, oracle::exact(ray, box), certified);
+    EXPECT_TRUE(c.ok()) << "the general path: " << oracle::describe(c.first()) << "\n  input: " << repro(ray, box)
+                        << "\n  answer: " << general;
+    EXPECT_EQ(general.face, -1) << "the general path: " << repro(ray, box);
 }
 
 // aabb-common-bound-gamma1: the certified Aabb full query's winners (aabb_certified_common

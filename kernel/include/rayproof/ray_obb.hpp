@@ -35,20 +35,26 @@
 //            with its own bound, the winners and the verdict proven in two lanes as for
 //            the aligned box, and each winning value rounded faithfully by pinning it
 //            from double-word num and den (detail/compensated.hpp; for float the
-//            faithful double rounded to nearest). What it cannot vouch for goes to the
-//            general path: o'_i and d'_i enclosed by the same static bounds
+//            faithful double rounded to nearest). What these bounds leave undecided
+//            (close values: rays through edges and corners; nearly parallel slabs)
+//            goes to a second stage (obb_certified_stage): the general path's
+//            decisions over the same bounds, each comparison they leave decided
+//            exactly, first from double-word num and den (word_compare), which decide
+//            exact ties of integer-like input and the nearly equal values; it answers
+//            as the general path does, bit for bit. The general path: o'_i and d'_i
+//            enclosed by the same static bounds
 //            gamma(4)·Σ|a_ji (o_j - c_j)| and gamma(3)·Σ|a_ji d_j| (derivation at
 //            ObbFrame), then the slab values in interval arithmetic; these intervals
 //            decide every comparison they separate; the rest, and the sign of d'_i, are
 //            decided exactly: num = ±h_i - Σ_j a_ji (o_j - c_j) and den = Σ_j a_ji d_j
 //            are degree 2, comparisons of two slab values degree 4 (detail/exact.hpp),
-//            each taken first from fixed-size sums of error-free products
-//            (detail/affine_quotients.hpp, shared with the plane), on the input rescaled
-//            by powers of two where it is outside the Expansion type's range.
-//            t is pinned as on the straight-line path first (so the two paths answer
-//            alike bit for bit), next rounded from the interval when it lies strictly
-//            between the neighbours of its midpoint, else exactly (from the same sums
-//            first).
+//            each taken first from double-word pairs, then from fixed-size sums of
+//            error-free products (detail/affine_quotients.hpp, shared with the plane),
+//            on the input rescaled by powers of two where it is outside the Expansion
+//            type's range. t is pinned as on the straight-line path first (so the paths
+//            answer alike bit for bit), then from the pairs of the exact side, next
+//            rounded from the interval when it lies strictly between the neighbours of
+//            its midpoint, else exactly (from the same sums first).
 #pragma once
 
 #include <rayproof/detail/affine_quotients.hpp>
@@ -83,25 +89,18 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedObb<T>& p, fast_
     return slab_fast(o.data(), d.data(), p.lo.data(), p.hi.data(), r.t_min, r.t_max);
 }
 
-// The slab value (±h_i - o'_i)/d'_i as num = ±h_i - Σ_j a_ji (o_j - c_j), with o_j - c_j =
-// s_j + e_j split exactly by two_sum (the start and six products), over den = Σ_j a_ji d_j
-// (three products and three zeros), as double-word sums (detail/compensated.hpp) for
+// The slab value (±h_i - o'_i)/d'_i as num = ±h_i - Σ_j a_ji (o_j - c_j) over den =
+// Σ_j a_ji d_j, as double-word sums (affine_row_sums, detail/affine_quotients.hpp) for
 // pin_quotient; not ok when an input is out of quotient_sums' range.
 template <class T> RAYPROOF_ALWAYS_INLINE QuotientSums obb_slab_sums(const Ray<T>& r, const Obb<T>& b, int i, int side) {
-    using namespace lanes;
-    const double h = b.half_extent[i];
-    D2 a[6], f[6];
-    M2 inputs = in_range(make(h, 0.0));
+    double a[3], o[3], c[3], d[3];
     for (int j = 0; j < 3; ++j) {
-        const double x = b.axes(j, i);
-        const Pair oc = two_sum(double(r.origin[j]), -double(b.center[j]));
-        a[j] = make(-x, x);
-        f[j] = make(oc.hi, double(r.direction[j]));
-        a[3 + j] = make(-x, 0.0);
-        f[3 + j] = make(oc.lo, 0.0);
-        inputs = inputs & in_range(a[j]) & in_range(f[j]) & in_range(f[3 + j]);
+        a[j] = double(b.axes(j, i));
+        o[j] = double(r.origin[j]);
+        c[j] = double(b.center[j]);
+        d[j] = double(r.direction[j]);
     }
-    return quotient_sums(make(side ? h : -h, 0.0), a, f, inputs);
+    return affine_row_sums(double(b.half_extent[i]), side, a, o, c, d);
 }
 
 // The certified float answer for slab value (i, side): its conservative enclosure
@@ -161,6 +160,65 @@ template <class T> AffineValues<3> obb_values(const Ray<T>& r, const Obb<T>& b) 
 }
 using ObbQuotients = AffineQuotients<3>;
 
+// Row i of the certified frame (ObbFrame's certified constructor, the derivation there):
+// o'_i and d'_i from one plain evaluation in double, each enclosed by its static bound
+// and one step outward. Out of line, so that every caller (the general path's frame, the
+// second stage's rounding, obb_certified_stage) has the same bits whatever the
+// includer's contraction.
+struct ObbRow {
+    Interval<double> op, dp;
+};
+template <class T> [[gnu::noinline]] ObbRow obb_certified_row(const Ray<T>& r, const Obb<T>& b, int i) {
+    constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022;
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    double op = 0, dp = 0, so = 0, sd = 0;
+    for (int j = 0; j < 3; ++j) {
+        const double a = b.axes(j, i), x = a * (double(r.origin[j]) - double(b.center[j])), y = a * double(r.direction[j]);
+        op += x;
+        dp += y;
+        so += std::abs(x);
+        sd += std::abs(y);
+    }
+    const auto around = [](double v, double e) -> Interval<double> {
+        if (!(e <= std::numeric_limits<double>::max())) return {-inf, inf};
+        return {step_down(v - e), step_up(v + e)};
+    };
+    return {around(op, g4 * so + eta), around(dp, g3 * sd + eta)};
+}
+// Slab value (i, side) enclosed from its row, given the exact sign of d'_i (nonzero).
+template <class T> Interval<double> obb_enclose(const Obb<T>& b, int i, int side, const ObbRow& row, int sden) {
+    const double h = b.half_extent[i];
+    return divide_signed(Interval<double>(side ? h : -h) - row.op, row.dp, sden);
+}
+
+// Whether the origin lies in the closed slab i of a box whose d'_i is 0, from the exact
+// signs of a source over its slab values (AffineSource's, as exact_den_sign): h - o' >= 0
+// and h + o' >= 0, that is num(i, 1) >= 0 >= num(i, 0).
+template <class Source> bool obb_inside_parallel_exact(const Source& src, int i) {
+    return src.exact_num_sign(i, 1) >= 0 && src.exact_num_sign(i, 0) <= 0;
+}
+// The same from an enclosure of o'_i where it decides, else exactly.
+template <class Source> bool obb_inside_parallel(const Source& src, double h, const Interval<double>& op, int i) {
+    if (-h <= op.lo && op.hi <= h) return true;
+    if (op.lo > h || op.hi < -h) return false;
+    return obb_inside_parallel_exact(src, i);
+}
+
+// The box's exact side alone (AffineSource over its slab values as ObbQuotients), for
+// the second stage (obb_certified_stage): exact_compare and exact_faithful on it decide
+// and round as on ObbFrame, whose exact side is the same.
+template <class T> class ObbExact : public AffineSource<3, ObbExact<T>> {
+    friend AffineSource<3, ObbExact<T>>;
+
+public:
+    ObbExact(const Ray<T>& r, const Obb<T>& b) : AffineSource<3, ObbExact<T>>(std::is_same_v<T, float>), r_(&r), b_(&b) {}
+
+private:
+    AffineValues<3> affine_values() const { return obb_values(*r_, *b_); }
+    const Ray<T>* r_;
+    const Obb<T>* b_;
+};
+
 // The slab frame of an oriented box: o'_i = (o - c)·a_i, d'_i = d·a_i, slab
 // [-h_i, h_i]; value (±h_i - o'_i)/d'_i. Its exact side (num, den, safe, quick_compare,
 // quick_faithful, scaled) is AffineSource's, on the slab values as ObbQuotients.
@@ -200,62 +258,35 @@ public:
         }
     }
     ObbFrame(const Ray<T>& r, const Obb<T>& b, certified_t) : Source(std::is_same_v<T, float>), r_(&r), b_(&b) {
-        constexpr double g4 = 2 * gamma<double>(4), g3 = 2 * gamma<double>(3), eta = 0x1p-1022;
-        double oc[3], d[3];
-        for (int j = 0; j < 3; ++j) {
-            oc[j] = double(r.origin[j]) - double(b.center[j]);
-            d[j] = double(r.direction[j]);
-        }
         for (int i = 0; i < 3; ++i) {
-            double op = 0, dp = 0, so = 0, sd = 0;
-            for (int j = 0; j < 3; ++j) {
-                const double a = b.axes(j, i), x = a * oc[j], y = a * d[j];
-                op += x;
-                dp += y;
-                so += std::abs(x);
-                sd += std::abs(y);
-            }
-            op_[i] = around(op, g4 * so + eta);
-            dp_[i] = around(dp, g3 * sd + eta);
+            const ObbRow row = obb_certified_row(r, b, i);
+            op_[i] = row.op;
+            dp_[i] = row.dp;
             const int s = dp_[i].certain_sign();
             sden_[i] = s != 2 ? s : this->exact_den_sign(i);
         }
     }
     int den_sign(int i) const { return sden_[i]; }
-    bool inside_parallel(int i) const {
-        const double h = b_->half_extent[i];
-        if (-h <= op_[i].lo && op_[i].hi <= h) return true;
-        if (op_[i].lo > h || op_[i].hi < -h) return false;
-        return inside_parallel_exact(i);
-    }
-    Interval<double> enclose(int i, int side) const {
-        const double h = b_->half_extent[i];
-        return divide_signed(Interval<double>(side ? h : -h) - op_[i], dp_[i], sden_[i]);
-    }
+    bool inside_parallel(int i) const { return obb_inside_parallel(*this, double(b_->half_extent[i]), op_[i], i); }
+    Interval<double> enclose(int i, int side) const { return obb_enclose(*b_, i, side, {op_[i], dp_[i]}, sden_[i]); }
     // t faithfully rounded to T, as the straight-line path rounds it (so that the two
-    // paths answer alike bit for bit): for float by obb_nearest_float first, then by
-    // pin_quotient (for float the faithful double rounded to nearest); next from the
-    // interval when it pins one float, else exactly.
+    // paths answer alike bit for bit): obb_pinned_value (for float by obb_nearest_float
+    // first, then by pin_quotient: the faithful double rounded to nearest), then
+    // word_faithful (the same pin on the input as given where it is safe for the
+    // double-word comparisons, else on the rescaled one) as obb_certified_stage does;
+    // next from the interval when it pins one float, else exactly.
     T faithful(int i, int side, const Interval<double>& v, bool& went_exact) const {
         if (const Pinned<T> x = obb_pinned_value(*r_, *b_, i, side); x.ok) return x.t;
+        if (const std::optional<T> t = this->template word_faithful<T>(i, side)) return *t;
         if (const std::optional<T> t = faithful_from_enclosure<T>(v)) return *t;
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, i, side);
     }
 
-    // The same decision without the interval filter (the exact stage alone), from
-    // AffineSource's exact signs (as exact_den_sign): the origin lies in the closed slab
-    // i when h - o' >= 0 and h + o' >= 0: num(i, 1) >= 0 >= num(i, 0).
-    bool inside_parallel_exact(int i) const {
-        return this->exact_num_sign(i, 1) >= 0 && this->exact_num_sign(i, 0) <= 0;
-    }
+    // The same decision without the interval filter (the exact stage alone).
+    bool inside_parallel_exact(int i) const { return obb_inside_parallel_exact(*this, i); }
 
 private:
-    static Interval<double> around(double v, double e) {
-        constexpr double inf = std::numeric_limits<double>::infinity();
-        if (!(e <= std::numeric_limits<double>::max())) return {-inf, inf};
-        return {step_down(v - e), step_up(v + e)};
-    }
     AffineValues<3> affine_values() const { return obb_values(*r_, *b_); }
     const Ray<T>* r_;
     const Obb<T>* b_;
@@ -395,6 +426,118 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedObb<T>& p, conse
     return common_or_fallback(obb_conservative_common(r, p.box), [&] { return obb_conservative_general(r, p.box); });
 }
 
+// The certified answer's second stage, for what the straight-line path leaves undecided:
+// entries or exits whose enclosures overlap (rays through edges and corners, or nearly
+// so), slabs nearly parallel to the ray, values not finite. The general path's slab
+// method (slab_certified: a slab parallel to the ray with the origin outside it is a
+// miss; t_min, then the axes in order, an entry replaced only by a strictly greater
+// value and an exit only by a strictly smaller one; then the order of the two) over the
+// straight-line path's enclosures where they hold (known, bit i: slab i far from
+// parallel and every value finite): lo[i] = V - E and hi[i] = V + E, lane 0 the entry,
+// lane 1 the exit negated, the side entered from `negative`; for another slab, the
+// frame's enclosures of its row (obb_certified_row), the sign of d'_i and the origin's
+// place in a parallel slab decided as the frame decides them. Every comparison the
+// enclosures leave is decided exactly (exact_compare on the box's exact side,
+// ObbExact: the double-word pairs, then the exact sums, then the exact types), and the
+// winners are rounded as ObbFrame::faithful rounds them (obb_pinned_value,
+// word_faithful, the frame's enclosure of the value, exact_faithful). Every decision
+// being the exact one and every rounding the same, it answers as the general path does,
+// bit for bit, without building the frame's six enclosures where the straight-line
+// path's hold.
+template <class T>
+[[gnu::noinline]] Hit<T> obb_certified_stage(const Ray<T>& r, const Obb<T>& b, const lanes::D2 (&lo)[3],
+                                             const lanes::D2 (&hi)[3], int negative, int known) {
+    using lanes::lane0, lanes::lane1;
+    bool went_exact = false;
+    const ObbExact<T> src(r, b);
+    int sden[3];  // the exact sign of d'_i
+    double in_v[3][2], out_v[3][2];
+    for (int i = 0; i < 3; ++i) {
+        const bool enclosed = ((known >> i) & 1) && std::isfinite(lane0(lo[i])) && std::isfinite(lane0(hi[i])) &&
+                              std::isfinite(lane1(lo[i])) && std::isfinite(lane1(hi[i]));
+        if (enclosed) {
+            sden[i] = ((negative >> i) & 1) ? -1 : 1;
+            in_v[i][0] = lane0(lo[i]), in_v[i][1] = lane0(hi[i]);
+            out_v[i][0] = -lane1(hi[i]), out_v[i][1] = -lane1(lo[i]);
+            continue;
+        }
+        // as the frame: its row's enclosures, the exact signs where they hold 0
+        const ObbRow row = obb_certified_row(r, b, i);
+        const int s = row.dp.certain_sign();
+        sden[i] = s != 2 ? s : src.exact_den_sign(i);
+        if (sden[i] == 0) {  // parallel: a miss unless the origin lies in the closed slab
+            if (!obb_inside_parallel(src, double(b.half_extent[i]), row.op, i)) return Hit<T>{};
+            continue;
+        }
+        const Interval<double> v_in = obb_enclose(b, i, sden[i] > 0 ? 0 : 1, row, sden[i]),
+                               v_out = obb_enclose(b, i, sden[i] > 0 ? 1 : 0, row, sden[i]);
+        in_v[i][0] = v_in.lo, in_v[i][1] = v_in.hi;
+        out_v[i][0] = v_out.lo, out_v[i][1] = v_out.hi;
+    }
+    SlabRef in{-1, 0, double(r.t_min)}, out{-1, 0, double(r.t_max)};
+    double in_lo = r.t_min, in_hi = r.t_min, out_lo = r.t_max, out_hi = r.t_max;
+    for (int i = 0; i < 3; ++i) {
+        if (sden[i] == 0) continue;
+        const SlabRef c{i, sden[i] > 0 ? 0 : 1, 0};
+        const double v_lo = in_v[i][0], v_hi = in_v[i][1];
+        bool greater;
+        if (v_lo > in_hi) {
+            greater = true;
+        } else if (v_hi <= in_lo) {
+            greater = false;
+        } else {
+            RAYPROOF_COUNT_EXACT(went_exact);
+            greater = exact_compare(src, c, in) > 0;
+        }
+        if (greater) in = c, in_lo = v_lo, in_hi = v_hi;
+    }
+    for (int i = 0; i < 3; ++i) {
+        if (sden[i] == 0) continue;
+        const SlabRef c{i, sden[i] > 0 ? 1 : 0, 0};
+        const double v_lo = out_v[i][0], v_hi = out_v[i][1];
+        bool less;
+        if (v_hi < out_lo) {
+            less = true;
+        } else if (v_lo >= out_hi) {
+            less = false;
+        } else {
+            RAYPROOF_COUNT_EXACT(went_exact);
+            less = exact_compare(src, c, out) < 0;
+        }
+        if (less) out = c, out_lo = v_lo, out_hi = v_hi;
+    }
+    int order;  // sign(entry - exit)
+    if (in_hi < out_lo) {
+        order = -1;
+    } else if (in_lo > out_hi) {
+        order = 1;
+    } else {
+        RAYPROOF_COUNT_EXACT(went_exact);
+        order = exact_compare(src, in, out);
+    }
+    Hit<T> h;
+    if (order > 0) {
+        RAYPROOF_COUNT_FLUSH(went_exact);
+        return h;
+    }
+    // As ObbFrame::faithful, with the frame's enclosure of the value made for it alone.
+    const auto round = [&](const SlabRef& x) -> T {
+        if (const Pinned<T> p = obb_pinned_value(r, b, x.axis, x.side); p.ok) return p.t;
+        if (const std::optional<T> t = src.template word_faithful<T>(x.axis, x.side)) return *t;
+        const Interval<double> v = obb_enclose(b, x.axis, x.side, obb_certified_row(r, b, x.axis), sden[x.axis]);
+        if (const std::optional<T> t = faithful_from_enclosure<T>(v)) return *t;
+        RAYPROOF_COUNT_EXACT(went_exact);
+        return exact_faithful<T>(src, x.axis, x.side);
+    };
+    h.verdict = Verdict::hit;
+    h.face = in.axis < 0 ? -1 : 2 * in.axis + in.side;
+    h.t_enter = in.axis < 0 ? r.t_min : round(in);
+    h.t_exit = out.axis < 0 ? r.t_max : (order == 0 ? h.t_enter : round(out));
+    if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;
+    RAYPROOF_COUNT_FLUSH(went_exact);
+    return h;
+}
+
 // The certified answer's common case in straight-line code, as the box's
 // (aabb_certified_common): the entry problem in lane 0 and the exit problem, negated, in
 // lane 1 of detail/lanes.hpp, but each slab value with its own bound, since the frame's
@@ -432,7 +575,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_certified_common(const Ray<T>& 
         delta_d[j] = make(double(r.origin[j]) - double(b.center[j]), double(r.direction[j]));
     D2 V[3], E[3], probe = splat(0.0);
     int negative = 0;  // bit i: d'_i < 0
-    bool slabs_ok = true;
+    int slabs_ok = 0;  // bit i: slab i far from parallel (its bounds below hold)
     for (int i = 0; i < 3; ++i) {
         D2 od = splat(0.0), mag = splat(0.0);  // (o'_i, d'_i) and the sums of their terms' magnitudes
         for (int j = 0; j < 3; ++j) {
@@ -443,7 +586,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_certified_common(const Ray<T>& 
         const D2 err = mag * make(g4, g3) + splat(eta);
         const double op = lane0(od), dp = lane1(od), eo = lane0(err), ed = lane1(err), h = double(b.half_extent[i]);
         const double inv = 1 / dp, ai = std::abs(inv);
-        slabs_ok = int(slabs_ok) & int(ed <= 0x1p-20 * std::abs(dp));
+        slabs_ok |= int(ed <= 0x1p-20 * std::abs(dp)) << i;
         // t is rounded() (detail/eft.hpp, class C3): the probe and the comparisons take
         // the same values; every bound here is class C1.
         const D2 num = make(-h - op, h - op), t = rounded(num * splat(inv));  // sides 0 and 1
@@ -471,7 +614,7 @@ RAYPROOF_ALWAYS_INLINE std::optional<Hit<T>> obb_certified_common(const Ray<T>& 
     const bool hit = int((axis_wins | limit_wins) == 3) & int(bits(hh < -swap(hh)) == 3);
     const bool miss = bits(gg > -swap(gg)) == 3;
     const bool finite = bits(probe == splat(0.0)) == 3;
-    if (!(finite && slabs_ok && (hit || miss))) return std::nullopt;
+    if (!(finite && slabs_ok == 7 && (hit || miss))) return obb_certified_stage(r, b, L, H, negative, finite ? slabs_ok : 0);
     Hit<T> out;
     if (!hit) return out;
     T t_enter = r.t_min, t_exit = r.t_max;
