@@ -13,7 +13,9 @@
 // the same for the certified verdict filters (Aabb, plane, sphere), and that the paths
 // which check validity themselves decline every invalid variant of valid cases. The
 // exact stage's faster routes are checked against its generic one: the box's slab
-// values compared without the Expansion type, the sphere's fixed-size sums (the
+// values compared without the Expansion type, the oriented box's, the plane's and the
+// polyhedron's comparisons from double-word pairs and fixed-size sums, the sphere's
+// fixed-size sums (the
 // discriminant's sign and the vertex) against the expansions, its tangent shortcut
 // against the general path, and a touching point answered at both ends by the float
 // at or below t*, as the search answers it.
@@ -420,6 +422,71 @@ TYPED_TEST(CertifiedExactStage, PlaneCrossingDecidesAsTheBareQuotient) {
         ASSERT_TRUE(faithful_by(bare, t, detail::exact_faithful<T>(x, 0, 0))) << what;
     });
     routes.expect_exercised<T>(20);
+}
+
+// The polyhedron's exact decisions through its source (PolySource), which takes them
+// first from the double-word pairs and the fixed-size sums (quick_compare, the signs of
+// num and den) on the input as given where it is safe, else scaled into the safe range
+// (affine_shifts), else from sums with checked products, decide as its bare quotients
+// in expansions or BigDyadic: on valid cases of every polyhedron generator, the sign of
+// each plane's den and num, and every pair among the crossings of the planes not
+// parallel to the ray and the constants t_min, t_max, 0, the crossings' rounded
+// estimates and their neighbours (quick_compare's sign where it answers, and
+// exact_compare's). Inputs the safe range does not hold must be reached, and decided
+// there.
+TYPED_TEST(CertifiedExactStage, PolySourceComparisonsDecideAsTheBareQuotients) {
+    using T = TypeParam;
+    const std::uint64_t base = seed();
+    long quick = 0, quick_unsafe = 0;
+    for (const auto& g : gen::generators<T, gen::OwnedPolyhedron<T>>()) {
+        gen::Rng rng(base);
+        for (int k = 0; k < cases(); ++k) {
+            const auto c = g.make(rng);
+            const ConvexPolyhedron<T> p = c.shape.view();
+            if (!detail::valid(c.ray) || !detail::valid(p)) continue;
+            const detail::PolySource<T> src(c.ray, p.planes);
+            const detail::Unscaled<detail::PolySource<T>> bare{src};
+            const std::string what = "generator " + std::string(g.name) + " case " + std::to_string(k) +
+                                     " (RAYPROOF_SEED=" + std::to_string(base) + "): " + ::testing::PrintToString(c.ray) +
+                                     " vs " + ::testing::PrintToString(c.shape);
+            const auto bare_sign = [&](auto value) {
+                return detail::exact_sign(src.safe(), [&](auto tag) { return value(tag); });
+            };
+            std::vector<detail::SlabRef> refs{{-1, 0, c.ray.t_min}, {-1, 0, c.ray.t_max}, {-1, 0, 0.0}};
+            for (int j = 0; j < int(p.planes.size()); ++j) {
+                const int den = bare_sign([&](auto tag) { return src.template den<typename decltype(tag)::type>(j); }),
+                          num = bare_sign([&](auto tag) { return src.template num<typename decltype(tag)::type>(j); });
+                ASSERT_EQ(src.den_sign(j), den) << what << ": the sign of den_" << j;
+                ASSERT_EQ(src.num_sign(j), num) << what << ": the sign of num_" << j;
+                if (den == 0) continue;
+                refs.push_back({j, 0, 0});
+                const Plane<T>& q = p.planes[std::size_t(j)];
+                const double n = q.normal.template cast<double>().dot(c.ray.origin.template cast<double>()),
+                             d = q.normal.template cast<double>().dot(c.ray.direction.template cast<double>()),
+                             est = (double(q.offset) - n) / d;
+                if (std::isfinite(est))
+                    for (const double v : {est, std::nextafter(est, -HUGE_VAL), std::nextafter(est, HUGE_VAL)})
+                        refs.push_back({-1, 0, v});
+            }
+            for (const auto& a : refs)
+                for (const auto& b : refs) {
+                    if ((a.axis < 0 && b.axis < 0) || std::isinf(a.c) || std::isinf(b.c)) continue;
+                    const int s = detail::exact_compare(bare, a, b);
+                    ASSERT_EQ(detail::exact_compare(src, a, b), s)
+                        << what << "\n  refs (" << a.axis << ", " << a.c << ") and (" << b.axis << ", " << b.c << ")";
+                    if (const std::optional<int> q = src.quick_compare(a, b)) {
+                        ASSERT_EQ(*q, s) << what << ": quick_compare, refs (" << a.axis << ", " << a.c << ") and ("
+                                         << b.axis << ", " << b.c << ")";
+                        ++quick;
+                        quick_unsafe += !src.safe();
+                    }
+                }
+        }
+    }
+    EXPECT_GT(quick, 10000);
+    if constexpr (std::is_same_v<T, double>) {  // every float is safe
+        EXPECT_GT(quick_unsafe, 1000);
+    }
 }
 
 // The sphere's exact signs on the rescaled input (SphereQuadratic, where the given one

@@ -47,10 +47,16 @@
 //            pass (a crossing against the current entry or exit, entry against exit);
 //            what they cannot separate is decided exactly (detail/exact.hpp,
 //            detail/certified.hpp: sign(num_a·den_b - num_b·den_a)·sign(den_a)·
-//            sign(den_b), degree 4; against a
-//            limit sign(num - c·den)·sign(den), degree 3), in Shewchuk expansions, or
-//            BigDyadic beyond their safe range (2^±1000 scaling, denormals: there the
-//            bounds overflow, or their 2^-1022 floor swamps the values, and the filter
+//            sign(den_b), degree 4; against a limit sign(num - c·den)·sign(den),
+//            degree 3): first from num and den as double-word pairs with error
+//            bounds (detail/compensated.hpp: word_compare), which decide every
+//            comparison they separate and every exact tie of integer-like input, then
+//            from fixed-size sums of error-free products (PolySource::quick_compare),
+//            both on the input as given where it lies in the safe range, else scaled
+//            into it by powers of two (the origin, the normals, the offsets and the
+//            direction each by their own), then in Shewchuk expansions, or BigDyadic
+//            beyond their safe range (2^±1000 scaling, denormals: there the bounds
+//            overflow, or their 2^-1022 floor swamps the values, and the filter
 //            declines what it cannot separate). The verdict and the face
 //            are exact; the winners' t is faithfully rounded: a plane ±e_i as the box's
 //            slab values are (so a polyhedron of a box's planes answers as the box, bit
@@ -61,6 +67,7 @@
 #pragma once
 
 #include <rayproof/detail/certified.hpp>
+#include <rayproof/detail/compensated.hpp>
 #include <rayproof/detail/exact.hpp>
 #include <rayproof/detail/interval.hpp>
 #include <rayproof/detail/prepared.hpp>
@@ -310,25 +317,198 @@ public:
         return s;
     }
     // Every input expansion_safe (decided once, on first use: the exact stage is rare).
+    // For double, two values at a time (lanes::in_band: 0 or of magnitude in [2^-100,
+    // 2^100], false on NaN and infinity, as expansion_safe).
     bool safe() const {
         if (safe_ < 0) {
-            bool s = expansion_safe(r_->origin) && expansion_safe(r_->direction);
-            for (const Plane<T>& p : planes_) s = s && expansion_safe(p.normal) && expansion_safe(p.offset);
-            safe_ = s;
+            if constexpr (std::is_same_v<T, double>) {
+                using namespace lanes;
+                const D2 lo = splat(0x1p-100), hi = splat(0x1p100);
+                const Vec3<T>& o = r_->origin;
+                const Vec3<T>& d = r_->direction;
+                M2 ok = in_band(make(o[0], o[1]), lo, hi) & in_band(make(o[2], d[0]), lo, hi) &
+                        in_band(make(d[1], d[2]), lo, hi);
+                for (const Plane<T>& p : planes_)
+                    ok = ok & in_band(make(p.normal[0], p.normal[1]), lo, hi) & in_band(make(p.normal[2], p.offset), lo, hi);
+                safe_ = bits(ok) == 3;
+            } else {
+                bool s = expansion_safe(r_->origin) && expansion_safe(r_->direction);
+                for (const Plane<T>& p : planes_) s = s && expansion_safe(p.normal) && expansion_safe(p.offset);
+                safe_ = s;
+            }
         }
         return safe_ != 0;
     }
+    // The exact signs of num and den: from the double-word pairs where they decide, else
+    // from the fixed-size sums (both on the fine values below, which scale neither sign;
+    // on input with no fine scaling, the sums with checked products), else in an exact
+    // type.
     int num_sign(int k) const {
+        const std::optional<PlaneValues>& v = values(k);
+        if (v)
+            if (const std::optional<int> s = word_sign(v->word.n, v->word.bn)) return *s;
+        if (const GrowingSum<8> s = v ? num_sum(*v, true) : num_sum(given(k), false); !s.full) return s.sign();
         return exact_sign(safe(), [&](auto tag) { return num<typename decltype(tag)::type>(k); });
     }
     int den_sign(int k) const {
+        const std::optional<PlaneValues>& v = values(k);
+        if (v)
+            if (const std::optional<int> s = word_sign(v->word.d, v->word.bd)) return *s;
+        if (const GrowingSum<8> s = v ? den_sum(*v, true) : den_sum(given(k), false); !s.full) return s.sign();
         return exact_sign(safe(), [&](auto tag) { return den<typename decltype(tag)::type>(k); });
+    }
+    // exact_compare's sign before the exact types. On the fine values below: from the
+    // double-word pairs (detail/compensated.hpp, word_compare) where they decide, else
+    // from num = offset - Σ n_j·o_j and den = Σ n_j·d_j as fixed-size sums of
+    // error-free products (GrowingSum: exact on fine values, every product of their
+    // components exact too; compare_sums, detail/affine_quotients.hpp), a constant c
+    // compared with c·2^(sp - sd) on scaled values where that is exact. On input with no
+    // fine scaling (a group of values spanning more binades than the safe range holds):
+    // the same sums from the input as given, every product checked. None where none of
+    // these decides.
+    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const {
+        if (a.axis < 0) {
+            const std::optional<int> s = quick_compare(b, a);
+            if (!s) return std::nullopt;
+            return -*s;
+        }
+        const std::optional<PlaneValues> x = values(a.axis);
+        const bool fine = x.has_value();
+        if (b.axis < 0) {
+            double c = b.c;
+            if (fine && !safe() && !scale_exactly(b.c, shifts()->sp - shifts()->sd, c)) return std::nullopt;
+            if (fine)
+                if (const std::optional<int> s = word_compare(x->word, c)) return s;
+            const PlaneValues v = fine ? *x : given(a.axis);
+            const GrowingSum<8> n = num_sum(v, fine), d = den_sum(v, fine);
+            if (n.full || d.full || d.sign() == 0) return std::nullopt;
+            return compare_sums(n, d, c);
+        }
+        const std::optional<PlaneValues> y = fine ? values(b.axis) : std::nullopt;
+        if (fine && !y) return std::nullopt;
+        if (fine)
+            if (const std::optional<int> s = word_compare(x->word, y->word)) return s;
+        const PlaneValues v1 = fine ? *x : given(a.axis), v2 = fine ? *y : given(b.axis);
+        const GrowingSum<8> n1 = num_sum(v1, fine), d1 = den_sum(v1, fine), n2 = num_sum(v2, fine),
+                            d2 = den_sum(v2, fine);
+        if (n1.full || d1.full || n2.full || d2.full || d1.sign() == 0 || d2.sign() == 0) return std::nullopt;
+        return compare_sums(n1, d1, n2, d2, fine);
     }
 
 private:
+    // The scaling for input not safe() (quick_compare), made on first use.
+    const std::optional<AffineShifts>& shifts() const {
+        if (!shifts_made_) {
+            shifts_made_ = true;
+            ExponentSpan positions, rows, halves, directions;
+            for (int j = 0; j < 3; ++j) {
+                positions.add(double(r_->origin[j]));
+                directions.add(double(r_->direction[j]));
+            }
+            for (const Plane<T>& p : planes_) {
+                for (int j = 0; j < 3; ++j) rows.add(double(p.normal[j]));
+                halves.add(double(p.offset));
+            }
+            shifts_ = affine_shifts(positions, rows, halves, directions);
+        }
+        return shifts_;
+    }
+    // Plane k's input as fine values: as given on safe() input, else scaled into the
+    // safe range (affine_shifts: the origin by 2^sp, every normal by 2^sa, every offset
+    // by 2^(sp + sa), the direction by 2^sd, each exact), which multiplies each num by
+    // 2^(sp + sa) and each den by 2^(sa + sd) (every sign of a num, a den or a difference
+    // of two crossings unchanged, every crossing times 2^(sp - sd)); with the pairs of
+    // quotient_sums (num in lane 0: the offset, then -n_j·o_j; den in lane 1: n_j·d_j),
+    // fine sums there. None where no scaling exists or the sums are not ok. The last two
+    // planes' are kept (a comparison asks two, and the current entry or exit is asked
+    // again by the planes after it).
+    struct PlaneValues {
+        double offset, n[3], o[3], d[3];
+        WordQuotient word;
+    };
+    const std::optional<PlaneValues>& values(int k) const {
+        for (int slot = 0; slot < 2; ++slot)
+            if (kept_[slot] == k) return values_[slot];
+        const int slot = next_;
+        next_ ^= 1;
+        kept_[slot] = k;
+        values_[slot] = make_values(k);
+        return values_[slot];
+    }
+    std::optional<PlaneValues> make_values(int k) const {
+        AffineShifts s{0, 0, 0};
+        if (!safe()) {
+            if (!shifts()) return std::nullopt;
+            s = *shifts();
+        }
+        using namespace lanes;
+        const Plane<T>& p = planes_[std::size_t(k)];
+        const bool scale = !safe();
+        PlaneValues v;
+        v.offset = scale ? times_pow2(double(p.offset), s.sp + s.sa) : double(p.offset);
+        D2 a[3], f[3];
+        M2 inputs = in_range(make(v.offset, 0.0));
+        for (int j = 0; j < 3; ++j) {
+            v.n[j] = scale ? times_pow2(double(p.normal[j]), s.sa) : double(p.normal[j]);
+            v.o[j] = scale ? times_pow2(double(r_->origin[j]), s.sp) : double(r_->origin[j]);
+            v.d[j] = scale ? times_pow2(double(r_->direction[j]), s.sd) : double(r_->direction[j]);
+            a[j] = make(-v.n[j], v.n[j]);
+            f[j] = make(v.o[j], v.d[j]);
+            inputs = inputs & in_range(a[j]) & in_range(f[j]);
+        }
+        const QuotientSums q = quotient_sums_short_first(make(v.offset, 0.0), a, f, inputs);
+        if (!q.ok) return std::nullopt;
+        v.word = unpack(q);
+        return v;
+    }
+    // Plane k's input as given, in double (word unset).
+    PlaneValues given(int k) const {
+        const Plane<T>& p = planes_[std::size_t(k)];
+        PlaneValues v{};
+        v.offset = double(p.offset);
+        for (int j = 0; j < 3; ++j) {
+            v.n[j] = double(p.normal[j]);
+            v.o[j] = double(r_->origin[j]);
+            v.d[j] = double(r_->direction[j]);
+        }
+        return v;
+    }
+    // num and den as sums of error-free products: exact on fine values (fine); else each
+    // product checked (exact_product) and the offset below 2^1000, `full` where not.
+    static GrowingSum<8> num_sum(const PlaneValues& v, bool fine) {
+        GrowingSum<8> s;
+        if (!fine && std::abs(v.offset) >= 0x1p1000) {
+            s.full = true;
+            return s;
+        }
+        s.add(v.offset);
+        for (int j = 0; j < 3; ++j) {
+            if (fine)
+                s.add_product(-v.n[j], v.o[j]);
+            else
+                s.add_product_checked(-v.n[j], v.o[j]);
+        }
+        s.compress();
+        return s;
+    }
+    static GrowingSum<8> den_sum(const PlaneValues& v, bool fine) {
+        GrowingSum<8> s;
+        for (int j = 0; j < 3; ++j) {
+            if (fine)
+                s.add_product(v.n[j], v.d[j]);
+            else
+                s.add_product_checked(v.n[j], v.d[j]);
+        }
+        s.compress();
+        return s;
+    }
     const Ray<T>* r_;
     std::span<const Plane<T>> planes_;
     mutable int safe_ = -1;
+    mutable bool shifts_made_ = false;
+    mutable std::optional<AffineShifts> shifts_;
+    mutable int kept_[2] = {-1, -1}, next_ = 0;
+    mutable std::optional<PlaneValues> values_[2];
 };
 
 static_assert(ExactQuotients<PolySource<float>> && ExactQuotients<PolySource<double>>);
