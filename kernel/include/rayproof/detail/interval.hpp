@@ -62,20 +62,14 @@ template <class T> Interval<T> operator*(Interval<T> a, Interval<T> b) {
             step_up(std::max(std::max(p0, p1), std::max(p2, p3)))};
 }
 
-// Division by an interval that does not contain zero, with two quotients: a/b =
-// (-a)/(-b) puts b on the positive side, where x/y over the box is least at x = a.lo
-// and y = b.hi when a.lo >= 0 (y = b.lo otherwise) and greatest at x = a.hi and y = b.lo
-// when a.hi >= 0 (y = b.hi otherwise); rounding is monotone, so these are the least and
-// the greatest of the four rounded quotients of the ends. An overflowed end over
-// another (inf/inf) bounds nothing: the whole line is returned then.
+// Division by an interval that does not contain zero. An overflowed end over another
+// (inf/inf) bounds nothing: the whole line is returned then.
 template <class T> Interval<T> operator/(Interval<T> a, Interval<T> b) {
-    if (b.hi < 0) {
-        a = -a;
-        b = -b;
-    }
-    const T lo = a.lo / (a.lo >= 0 ? b.hi : b.lo), hi = a.hi / (a.hi >= 0 ? b.lo : b.hi);
-    if (std::isnan(lo) || std::isnan(hi)) return {-std::numeric_limits<T>::infinity(), std::numeric_limits<T>::infinity()};
-    return {step_down(lo), step_up(hi)};
+    const T q0 = a.lo / b.lo, q1 = a.lo / b.hi, q2 = a.hi / b.lo, q3 = a.hi / b.hi;
+    if (std::isnan(q0) || std::isnan(q1) || std::isnan(q2) || std::isnan(q3))
+        return {-std::numeric_limits<T>::infinity(), std::numeric_limits<T>::infinity()};
+    return {step_down(std::min(std::min(q0, q1), std::min(q2, q3))),
+            step_up(std::max(std::max(q0, q1), std::max(q2, q3)))};
 }
 
 // a / [d, d]: the same interval as a / Interval<T>(d), with two quotients instead of
