@@ -11,6 +11,9 @@
 //   - lanes::exact_product: hi + lo is the exact product in both lanes, over the range
 //     its callers guard (zeros, short and full mantissas, products near 2^-900);
 //   - quotient_sums_short_first: the same bits as quotient_sums, short factors or not;
+//   - AffineSpans (affine_quotients.hpp): the groups' shifts and range tests from one
+//     pass, as affine_shifts and expansion_safe give them value by value, NaN, infinities,
+//     zeros and subnormals included;
 //   - word_sign, word_difference and word_compare (the exact stages' comparisons from
 //     the pairs): on fine sums, the enclosure of N1·D2 - N2·D1 and of N - c·D always
 //     holds, and whenever they decide, the sign is the exact sign of N, of N1/D1 - N2/D2
@@ -24,6 +27,7 @@
 //     wide-exponent input; and it pins nearly every generic crossing (not dead).
 // Every random test is seeded: RAYPROOF_SEED=<decimal> in the environment replays a run;
 // the seed is printed with every failure.
+#include <rayproof/detail/affine_quotients.hpp>
 #include <rayproof/detail/compensated.hpp>
 #include <rayproof/io.hpp>
 #include <rayproof/rayproof.hpp>
@@ -192,6 +196,80 @@ TEST(QuotientSumsShortFirst, SameBitsAsQuotientSums) {
         ASSERT_TRUE(same(x.hi, y.hi) && same(x.lo, y.lo) && same(x.bound, y.bound) && x.ok == y.ok) << "case " << it;
     }
     EXPECT_GT(short_inputs, 1000);  // the shortcut is taken
+}
+
+// AffineSpans (affine_quotients.hpp: one pass over an affine input's four groups, two
+// values at a time) against its definition value by value: shifts() is affine_shifts of
+// the groups' ExponentSpans, within(2^-100, 2^100) is every value expansion_safe and
+// within(0, max) every value finite; on groups of 1 to 12 rows whose values are zeros of
+// either sign, subnormals, values anywhere in the exponent range, near the safe range's
+// ends, infinities and NaNs.
+TEST(AffineSpans, AreTheGroupsExponentSpans) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    // A case's values lie around 2^centre, within 2^±width, some of them special (a case
+    // of every third is kept free of them, and centred at 1 every other time).
+    const auto value = [&](int centre, int width, bool plain) {
+        switch (plain ? 9 : rng() % 24) {
+            case 0: return (rng() & 1) ? -0.0 : 0.0;
+            case 1: return std::ldexp(double(1 + rng() % 1000), -1074);  // subnormal
+            case 2: return (rng() & 1) ? std::numeric_limits<double>::infinity() : std::nan("");
+            case 3: return std::ldexp((rng() & 1) ? 1.0 : -1.0, (rng() & 1) ? -100 : 100) * ((rng() & 1) ? 1.0 : 1.5);
+            case 4: return random_double(rng, 1020);
+            default: return std::ldexp(random_double(rng, 2), centre + int(rng() % std::uint64_t(2 * width + 1)) - width);
+        }
+    };
+    int shifted = 0, safe = 0, unscalable = 0;
+    for (int it = 0; it < 100000; ++it) {
+        const bool plain = it % 3 == 0;
+        const int centre = (it % 2) ? int(rng() % 1801) - 900 : 0, width = 10 + int(rng() % 200);
+        const auto draw = [&] { return value(centre, width, plain); };
+        AffineSpans spans;
+        ExponentSpan positions, rows, halves, directions;
+        bool all_safe = true, all_finite = true;
+        const auto note = [&](ExponentSpan& group, double x) {
+            group.add(x);
+            all_safe = all_safe && expansion_safe(x);
+            all_finite = all_finite && std::isfinite(x);
+        };
+        std::ostringstream what;
+        what << std::hexfloat << "case " << it << ":";
+        for (int j = 0; j < 3; ++j) {
+            const double o = draw(), d = draw();
+            spans.ray(o, d);
+            note(positions, o);
+            note(directions, d);
+            what << " ray(" << o << ", " << d << ")";
+        }
+        const int n = 1 + int(rng() % 12);
+        for (int i = 0; i < n; ++i) {
+            const double a0 = draw(), a1 = draw(), a2 = draw(), h = draw();
+            spans.row(a0, a1, a2, h);
+            note(rows, a0);
+            note(rows, a1);
+            note(rows, a2);
+            note(halves, h);
+            what << " row(" << a0 << ", " << a1 << ", " << a2 << ", " << h << ")";
+        }
+        ASSERT_EQ(spans.within(0x1p-100, 0x1p100), all_safe) << what.str();
+        ASSERT_EQ(spans.within(0, std::numeric_limits<double>::max()), all_finite) << what.str();
+        const std::optional<AffineShifts> got = spans.shifts(),
+                                          want = affine_shifts(positions, rows, halves, directions);
+        ASSERT_EQ(got.has_value(), want.has_value()) << what.str();
+        if (want) {
+            ASSERT_EQ(got->sp, want->sp) << what.str();
+            ASSERT_EQ(got->sa, want->sa) << what.str();
+            ASSERT_EQ(got->sd, want->sd) << what.str();
+            shifted += want->sp != 0 || want->sa != 0 || want->sd != 0;
+        } else {
+            ++unscalable;
+        }
+        safe += all_safe;
+    }
+    // Every outcome reached: safe input, input scaled into the range, input no scaling fits.
+    EXPECT_GT(safe, 1000);
+    EXPECT_GT(shifted, 5000);
+    EXPECT_GT(unscalable, 10000);
 }
 
 // Fine sums (compensated.hpp's word_compare): N and D of P products each, every input 0

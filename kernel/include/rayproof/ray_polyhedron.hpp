@@ -316,27 +316,10 @@ public:
         for (int j = 0; j < 3; ++j) s = s + E(double(p.normal[j])) * E(double(r_->direction[j]));
         return s;
     }
-    // Every input expansion_safe (decided once, on first use: the exact stage is rare).
-    // For double, two values at a time (lanes::in_band: 0 or of magnitude in [2^-100,
-    // 2^100], false on NaN and infinity, as expansion_safe).
+    // Every input expansion_safe (decided once, on first use: the exact stage is rare;
+    // scan()).
     bool safe() const {
-        if (safe_ < 0) {
-            if constexpr (std::is_same_v<T, double>) {
-                using namespace lanes;
-                const D2 lo = splat(0x1p-100), hi = splat(0x1p100);
-                const Vec3<T>& o = r_->origin;
-                const Vec3<T>& d = r_->direction;
-                M2 ok = in_band(make(o[0], o[1]), lo, hi) & in_band(make(o[2], d[0]), lo, hi) &
-                        in_band(make(d[1], d[2]), lo, hi);
-                for (const Plane<T>& p : planes_)
-                    ok = ok & in_band(make(p.normal[0], p.normal[1]), lo, hi) & in_band(make(p.normal[2], p.offset), lo, hi);
-                safe_ = bits(ok) == 3;
-            } else {
-                bool s = expansion_safe(r_->origin) && expansion_safe(r_->direction);
-                for (const Plane<T>& p : planes_) s = s && expansion_safe(p.normal) && expansion_safe(p.offset);
-                safe_ = s;
-            }
-        }
+        if (safe_ < 0) scan();
         return safe_ != 0;
     }
     // The exact signs of num and den: from the double-word pairs where they decide, else
@@ -344,14 +327,14 @@ public:
     // on input with no fine scaling, the sums with checked products), else in an exact
     // type.
     int num_sign(int k) const {
-        const std::optional<PlaneValues>& v = values(k);
+        const std::optional<PlaneValues> v = values(k);
         if (v)
             if (const std::optional<int> s = word_sign(v->word.n, v->word.bn)) return *s;
         if (const GrowingSum<8> s = v ? num_sum(*v, true) : num_sum(given(k), false); !s.full) return s.sign();
         return exact_sign(safe(), [&](auto tag) { return num<typename decltype(tag)::type>(k); });
     }
     int den_sign(int k) const {
-        const std::optional<PlaneValues>& v = values(k);
+        const std::optional<PlaneValues> v = values(k);
         if (v)
             if (const std::optional<int> s = word_sign(v->word.d, v->word.bd)) return *s;
         if (const GrowingSum<8> s = v ? den_sum(*v, true) : den_sum(given(k), false); !s.full) return s.sign();
@@ -372,46 +355,38 @@ public:
             if (!s) return std::nullopt;
             return -*s;
         }
-        const std::optional<PlaneValues> x = values(a.axis);
-        const bool fine = x.has_value();
-        if (b.axis < 0) {
-            double c = b.c;
-            if (fine && !safe() && !scale_exactly(b.c, shifts()->sp - shifts()->sd, c)) return std::nullopt;
-            if (fine)
-                if (const std::optional<int> s = word_compare(x->word, c)) return s;
-            const PlaneValues v = fine ? *x : given(a.axis);
-            const GrowingSum<8> n = num_sum(v, fine), d = den_sum(v, fine);
-            if (n.full || d.full || d.sign() == 0) return std::nullopt;
-            return compare_sums(n, d, c);
-        }
-        const std::optional<PlaneValues> y = fine ? values(b.axis) : std::nullopt;
-        if (fine && !y) return std::nullopt;
-        if (fine)
-            if (const std::optional<int> s = word_compare(x->word, y->word)) return s;
-        const PlaneValues v1 = fine ? *x : given(a.axis), v2 = fine ? *y : given(b.axis);
-        const GrowingSum<8> n1 = num_sum(v1, fine), d1 = den_sum(v1, fine), n2 = num_sum(v2, fine),
-                            d2 = den_sum(v2, fine);
-        if (n1.full || d1.full || n2.full || d2.full || d1.sign() == 0 || d2.sign() == 0) return std::nullopt;
-        return compare_sums(n1, d1, n2, d2, fine);
+        if (const std::optional<PlaneValues> x = values(a.axis)) return fine_compare(*x, b);
+        return given_compare(a.axis, b);
     }
 
 private:
-    // The scaling for input not safe() (quick_compare), made on first use.
+    // The scaling for input not safe() (quick_compare): scan()'s.
     const std::optional<AffineShifts>& shifts() const {
-        if (!shifts_made_) {
-            shifts_made_ = true;
-            ExponentSpan positions, rows, halves, directions;
-            for (int j = 0; j < 3; ++j) {
-                positions.add(double(r_->origin[j]));
-                directions.add(double(r_->direction[j]));
-            }
-            for (const Plane<T>& p : planes_) {
-                for (int j = 0; j < 3; ++j) rows.add(double(p.normal[j]));
-                halves.add(double(p.offset));
-            }
-            shifts_ = affine_shifts(positions, rows, halves, directions);
-        }
+        if (safe_ < 0) scan();
         return shifts_;
+    }
+    // One pass over the input, on first use (AffineSpans): whether every input is
+    // expansion_safe (double: every value 0 or of magnitude in [2^-100, 2^100]; float:
+    // finite), and the scaling for input that is not, which also scales the origin and
+    // the direction here once, for every plane's values.
+    void scan() const {
+        AffineSpans spans;
+        for (int j = 0; j < 3; ++j) {
+            o_[j] = double(r_->origin[j]);
+            d_[j] = double(r_->direction[j]);
+            spans.ray(o_[j], d_[j]);
+        }
+        for (const Plane<T>& p : planes_)
+            spans.row(double(p.normal[0]), double(p.normal[1]), double(p.normal[2]), double(p.offset));
+        safe_ = std::is_same_v<T, double> ? spans.within(0x1p-100, 0x1p100)
+                                          : spans.within(0, std::numeric_limits<double>::max());
+        if (safe_) return;
+        shifts_ = spans.shifts();
+        if (shifts_)
+            for (int j = 0; j < 3; ++j) {
+                o_[j] = times_pow2(o_[j], shifts_->sp);
+                d_[j] = times_pow2(d_[j], shifts_->sd);
+            }
     }
     // Plane k's input as fine values: as given on safe() input, else scaled into the
     // safe range (affine_shifts: the origin by 2^sp, every normal by 2^sa, every offset
@@ -419,23 +394,14 @@ private:
     // 2^(sp + sa) and each den by 2^(sa + sd) (every sign of a num, a den or a difference
     // of two crossings unchanged, every crossing times 2^(sp - sd)); with the pairs of
     // quotient_sums (num in lane 0: the offset, then -n_j·o_j; den in lane 1: n_j·d_j),
-    // fine sums there. None where no scaling exists or the sums are not ok. The last two
-    // planes' are kept (a comparison asks two, and the current entry or exit is asked
-    // again by the planes after it).
+    // fine sums there. None where no scaling exists or the sums are not ok. Made anew at
+    // each call: keeping them (the last two planes', or every plane's of a pass) measured
+    // no faster.
     struct PlaneValues {
         double offset, n[3], o[3], d[3];
         WordQuotient word;
     };
-    const std::optional<PlaneValues>& values(int k) const {
-        for (int slot = 0; slot < 2; ++slot)
-            if (kept_[slot] == k) return values_[slot];
-        const int slot = next_;
-        next_ ^= 1;
-        kept_[slot] = k;
-        values_[slot] = make_values(k);
-        return values_[slot];
-    }
-    std::optional<PlaneValues> make_values(int k) const {
+    std::optional<PlaneValues> values(int k) const {
         AffineShifts s{0, 0, 0};
         if (!safe()) {
             if (!shifts()) return std::nullopt;
@@ -450,8 +416,8 @@ private:
         M2 inputs = in_range(make(v.offset, 0.0));
         for (int j = 0; j < 3; ++j) {
             v.n[j] = scale ? times_pow2(double(p.normal[j]), s.sa) : double(p.normal[j]);
-            v.o[j] = scale ? times_pow2(double(r_->origin[j]), s.sp) : double(r_->origin[j]);
-            v.d[j] = scale ? times_pow2(double(r_->direction[j]), s.sd) : double(r_->direction[j]);
+            v.o[j] = o_[j];
+            v.d[j] = d_[j];
             a[j] = make(-v.n[j], v.n[j]);
             f[j] = make(v.o[j], v.d[j]);
             inputs = inputs & in_range(a[j]) & in_range(f[j]);
@@ -472,6 +438,36 @@ private:
             v.d[j] = double(r_->direction[j]);
         }
         return v;
+    }
+    // quick_compare on the fine values: the pairs, then the sums (a constant scaled
+    // with the values, where exactly).
+    std::optional<int> fine_compare(const PlaneValues& x, const SlabRef& b) const {
+        if (b.axis < 0) {
+            double c = b.c;
+            if (!safe() && !scale_exactly(b.c, shifts()->sp - shifts()->sd, c)) return std::nullopt;
+            if (const std::optional<int> s = word_compare(x.word, c)) return s;
+            return sums_compare(x, c, true);
+        }
+        const std::optional<PlaneValues> y = values(b.axis);
+        if (!y) return std::nullopt;
+        if (const std::optional<int> s = word_compare(x.word, y->word)) return s;
+        return sums_compare(x, *y, true);
+    }
+    // quick_compare on the input as given (no fine scaling): the sums, products checked.
+    std::optional<int> given_compare(int k, const SlabRef& b) const {
+        if (b.axis < 0) return sums_compare(given(k), b.c, false);
+        return sums_compare(given(k), given(b.axis), false);
+    }
+    static std::optional<int> sums_compare(const PlaneValues& v, double c, bool fine) {
+        const GrowingSum<8> n = num_sum(v, fine), d = den_sum(v, fine);
+        if (n.full || d.full || d.sign() == 0) return std::nullopt;
+        return compare_sums(n, d, c);
+    }
+    static std::optional<int> sums_compare(const PlaneValues& v1, const PlaneValues& v2, bool fine) {
+        const GrowingSum<8> n1 = num_sum(v1, fine), d1 = den_sum(v1, fine), n2 = num_sum(v2, fine),
+                            d2 = den_sum(v2, fine);
+        if (n1.full || d1.full || n2.full || d2.full || d1.sign() == 0 || d2.sign() == 0) return std::nullopt;
+        return compare_sums(n1, d1, n2, d2, fine);
     }
     // num and den as sums of error-free products: exact on fine values (fine); else each
     // product checked (exact_product) and the offset below 2^1000, `full` where not.
@@ -505,10 +501,8 @@ private:
     const Ray<T>* r_;
     std::span<const Plane<T>> planes_;
     mutable int safe_ = -1;
-    mutable bool shifts_made_ = false;
     mutable std::optional<AffineShifts> shifts_;
-    mutable int kept_[2] = {-1, -1}, next_ = 0;
-    mutable std::optional<PlaneValues> values_[2];
+    mutable double o_[3], d_[3];  // the origin and the direction, scaled by shifts_ where the input is not safe
 };
 
 static_assert(ExactQuotients<PolySource<float>> && ExactQuotients<PolySource<double>>);

@@ -52,6 +52,54 @@ inline std::optional<AffineShifts> affine_shifts(const ExponentSpan& positions, 
     return AffineShifts{sp, sum - sp, *sd};
 }
 
+// The four groups of an affine input (positions, rows, halves, directions) gathered in
+// one pass, two values at a time: a position beside a direction, a row's first two
+// components, its third beside its half. Each lane keeps the largest magnitude and the
+// smallest nonzero one, a NaN or an infinity taken as infinity. binary_exponent is
+// monotone in the magnitude and gives 1024 for both, so the ends' exponents are the
+// group's ExponentSpan value by value, and shifts() is affine_shifts of those spans.
+class AffineSpans {
+public:
+    void ray(double position, double direction) { take(ray_, lanes::make(position, direction)); }
+    void row(double a0, double a1, double a2, double h) {
+        take(pair_, lanes::make(a0, a1));
+        take(last_, lanes::make(a2, h));
+    }
+    // Every value 0 or of magnitude in [lo, hi] (false on a NaN or an infinity when hi
+    // is finite), as lanes::in_band.
+    bool within(double lo, double hi) const {
+        using namespace lanes;
+        const D2 l = splat(lo), u = splat(hi);
+        return bits((ray_.top <= u) & (ray_.bottom >= l) & (pair_.top <= u) & (pair_.bottom >= l) &
+                    (last_.top <= u) & (last_.bottom >= l)) == 3;
+    }
+    std::optional<AffineShifts> shifts() const {
+        using namespace lanes;
+        const double rows_top = std::max({lane0(pair_.top), lane1(pair_.top), lane0(last_.top)}),
+                     rows_bottom = std::min({lane0(pair_.bottom), lane1(pair_.bottom), lane0(last_.bottom)});
+        return affine_shifts(span(lane0(ray_.top), lane0(ray_.bottom)), span(rows_top, rows_bottom),
+                             span(lane1(last_.top), lane1(last_.bottom)), span(lane1(ray_.top), lane1(ray_.bottom)));
+    }
+
+private:
+    struct Ends {
+        lanes::D2 top = lanes::splat(0.0), bottom = lanes::splat(std::numeric_limits<double>::infinity());
+    };
+    static void take(Ends& e, lanes::D2 x) {
+        using namespace lanes;
+        const D2 inf = splat(std::numeric_limits<double>::infinity()), a = abs(x),
+                 m = select(a <= splat(std::numeric_limits<double>::max()), a, inf);
+        e.top = max(e.top, m);
+        e.bottom = min(e.bottom, select(m == splat(0.0), inf, m));
+    }
+    static ExponentSpan span(double top, double bottom) {
+        ExponentSpan e;
+        if (top != 0) e.hi = binary_exponent(top), e.lo = binary_exponent(bottom);
+        return e;
+    }
+    Ends ray_, pair_, last_;
+};
+
 // sign(n1/d1 - n2/d2) for exact sums (GrowingSum, not full; d1 and d2 nonzero):
 // sign(n1·d2 - n2·d1)·sign(d1·d2) from their components' products (sign_cross_difference),
 // which the caller vouches exact (products_exact) or which are checked here
@@ -141,15 +189,13 @@ public:
     // The input rescaled as above with every scaled value in [2^-100, 2^100] or 0, where
     // such shifts exist (affine_shifts); none otherwise.
     static std::optional<AffineQuotients> rescaled(const AffineValues<R>& v) {
-        ExponentSpan positions, rows, halves, directions;
+        AffineSpans spans;
         for (int j = 0; j < 3; ++j) {
-            positions.add(v.o[j]);
-            positions.add(v.c[j]);
-            directions.add(v.d[j]);
-            for (int i = 0; i < R; ++i) rows.add(v.a[i][j]);
+            spans.ray(v.o[j], v.d[j]);
+            spans.ray(v.c[j], v.d[j]);
         }
-        for (int i = 0; i < R; ++i) halves.add(v.h[i]);
-        const std::optional<AffineShifts> s = affine_shifts(positions, rows, halves, directions);
+        for (int i = 0; i < R; ++i) spans.row(v.a[i][0], v.a[i][1], v.a[i][2], v.h[i]);
+        const std::optional<AffineShifts> s = spans.shifts();
         if (!s) return std::nullopt;
         AffineValues<R> w = v;
         for (int j = 0; j < 3; ++j) {
