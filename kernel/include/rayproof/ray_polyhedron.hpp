@@ -292,8 +292,10 @@ template <class C> RAYPROOF_ALWAYS_INLINE QuickCrossing<C> crossing_enclosure_qu
     constexpr C floor = 8 * std::numeric_limits<C>::min();  // 2^-1019 (float: 2^-123)
     const C inv = 1 / c.D, ai = std::abs(inv), q = c.N * inv, aq = std::abs(q);
     const C E = 3 * ((c.eN + aq * c.eD) * ai) + floor;
-    const bool ok = int(c.finite_N) & int(c.finite_D) & int(std::abs(c.D) > 32 * c.eD) &
-                    int(ai >= std::numeric_limits<C>::min()) & int(E <= std::numeric_limits<C>::max());
+    // Both bounds finite, without testing them: an infinite or NaN eD fails the first
+    // test, an infinite or NaN eN (or N) makes E infinite or NaN where ai > 0.
+    const bool ok = int(std::abs(c.D) > 32 * c.eD) & int(ai >= std::numeric_limits<C>::min()) &
+                    int(E <= std::numeric_limits<C>::max());
     return {q - E, q + E, E, ok};
 }
 
