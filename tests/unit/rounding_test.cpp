@@ -7,10 +7,12 @@
 // against a definition written another way (std::nextafter, comparisons, the step_up /
 // step_down it must agree with, the nearest float found by distance), over float and
 // double, on the special values (signed zeros, subnormals, the largest finite value,
-// infinities, NaN) and on seeded random values spanning every binade.
+// infinities, NaN) and on seeded random values spanning every binade. Also
+// detail/interval.hpp's product with a point (times_point) against the full product.
 #include "seeded.hpp"
 
 #include <rayproof/detail/certified.hpp>
+#include <rayproof/detail/interval.hpp>
 #include <rayproof/detail/rounding.hpp>
 
 #include <gtest/gtest.h>
@@ -294,4 +296,33 @@ TEST(RoundingNearestFloat, AnswersTheNearestFloatOfEveryValueInTheEnclosure) {
     }
     EXPECT_GT(answered, 300000);
     EXPECT_GT(declined, 1000);
+}
+
+// detail/interval.hpp's times_point(a, y), the product with a point taken from two end
+// products, is a * Interval(y) bit for bit: on intervals whose ends are special values
+// (signed zeros, subnormals, the largest finite value, infinities) or random over every
+// binade, and points alike, both ends' bits equal.
+TYPED_TEST(Rounding, IntervalTimesPointIsTheProductWithThePoint) {
+    using T = TypeParam;
+    RAYPROOF_SEED_TRACE(base_seed());
+    std::mt19937_64 rng = rng_for_current_test(base_seed());
+    std::vector<T> values;
+    for (const T x : specials<T>())
+        if (!std::isnan(x)) values.push_back(x);
+    for (int i = 0; i < 200; ++i) values.push_back(random_value<T>(rng));
+    long checked = 0;
+    for (const T a : values)
+        for (const T b : values) {
+            // an interval: ordered ends, not the empty [+inf, +inf] or [-inf, -inf]
+            const Interval<T> x(std::min(a, b), std::max(a, b));
+            if ((std::isinf(x.lo) && x.lo > 0) || (std::isinf(x.hi) && x.hi < 0)) continue;
+            for (const T y : {values[rng() % values.size()], values[rng() % values.size()], T(0), -T(0), T(1)}) {
+                const Interval<T> p = times_point(x, y), q = x * Interval<T>(y);
+                ASSERT_TRUE(same_bits(p.lo, q.lo) && same_bits(p.hi, q.hi))
+                    << "[" << hex(x.lo) << ", " << hex(x.hi) << "] times " << hex(y) << ": [" << hex(p.lo) << ", "
+                    << hex(p.hi) << "] against [" << hex(q.lo) << ", " << hex(q.hi) << "]";
+                ++checked;
+            }
+        }
+    EXPECT_GT(checked, 50000);
 }

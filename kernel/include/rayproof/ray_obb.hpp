@@ -247,9 +247,9 @@ public:
         for (int i = 0; i < 3; ++i) {
             Interval<double> op(0.0), dp(0.0);
             for (int j = 0; j < 3; ++j) {
-                const Interval<double> a(double(b.axes(j, i)));
-                op = op + a * oc[j];
-                dp = dp + a * Interval<double>(double(r.direction[j]));
+                const double a = double(b.axes(j, i));
+                op = op + times_point(oc[j], a);
+                dp = dp + times_point(Interval<double>(a), double(r.direction[j]));
             }
             op_[i] = op;
             dp_[i] = dp;

@@ -472,8 +472,8 @@ public:
         Interval<double> n(double(p.offset)), d(0.0);
         for (int j = 0; j < 3; ++j) {
             const Interval<double> nj(double(p.normal[j]));
-            n = n - nj * Interval<double>(double(r.origin[j]));
-            d = d + nj * Interval<double>(double(r.direction[j]));
+            n = n - times_point(nj, double(r.origin[j]));
+            d = d + times_point(nj, double(r.direction[j]));
         }
         num_ = n;
         den_ = d;

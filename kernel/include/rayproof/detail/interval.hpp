@@ -62,6 +62,13 @@ template <class T> Interval<T> operator*(Interval<T> a, Interval<T> b) {
             step_up(std::max(std::max(p0, p1), std::max(p2, p3)))};
 }
 
+// a·[y, y]: the same interval as a * Interval<T>(y), from two end products (the other
+// two repeat them).
+template <class T> Interval<T> times_point(Interval<T> a, T y) {
+    const T p0 = end_product(a.lo, y), p2 = end_product(a.hi, y);
+    return {step_down(std::min(p0, p2)), step_up(std::max(p0, p2))};
+}
+
 // Division by an interval that does not contain zero. An overflowed end over another
 // (inf/inf) bounds nothing: the whole line is returned then.
 template <class T> Interval<T> operator/(Interval<T> a, Interval<T> b) {

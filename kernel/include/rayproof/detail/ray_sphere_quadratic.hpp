@@ -53,12 +53,13 @@ public:
             delta_[j] = I(double(r.origin[j])) - I(double(s.center[j]));
             const I d(double(r.direction[j]));
             a = a + sqr(d);
-            b = b + d * delta_[j];
+            b = b + times_point(delta_[j], double(r.direction[j]));
             dd = dd + sqr(delta_[j]);
         }
         a_ = a;
         b_ = b;
-        c_ = dd - sqr(I(double(s.radius)));
+        r2_ = sqr(I(double(s.radius)));
+        c_ = dd - r2_;
     }
     const I& a() const { return a_; }
     const I& b() const { return b_; }
@@ -68,7 +69,7 @@ public:
     I discriminant() const {
         const I f = b_ / a_;
         I l2(0.0);
-        for (int j = 0; j < 3; ++j) l2 = l2 + sqr(delta_[j] - f * I(double(r_->direction[j])));
+        for (int j = 0; j < 3; ++j) l2 = l2 + sqr(delta_[j] - times_point(f, double(r_->direction[j])));
         const I l = sqrt_nonneg(l2), rad(double(s_->radius));
         return a_ * ((rad - l) * (rad + l));
     }
@@ -87,10 +88,10 @@ public:
     I at(double t) const {  // q(t)
         const I ti(t);
         I s(0.0);
-        for (int j = 0; j < 3; ++j) s = s + sqr(delta_[j] + ti * I(double(r_->direction[j])));
-        return s - sqr(I(double(s_->radius)));
+        for (int j = 0; j < 3; ++j) s = s + sqr(delta_[j] + times_point(ti, double(r_->direction[j])));
+        return s - r2_;
     }
-    I slope(double t) const { return a_ * I(t) + b_; }  // a t + b, half the derivative
+    I slope(double t) const { return times_point(a_, t) + b_; }  // a t + b, half the derivative
 
     // q in double-word arithmetic with a proven bound (SphereResidual): its sign_at(t) is
     // sign q(t), or 2 when the bound cannot decide (t finite). Built by the caller once
@@ -269,7 +270,7 @@ private:
     }
     const Ray<T>* r_;
     const Sphere<T>* s_;
-    I delta_[3], a_, b_, c_;
+    I delta_[3], a_, b_, c_, r2_;  // r2_: the radius squared
     mutable bool rescaled_made_ = false;
     mutable std::optional<Values> rescaled_;
     mutable bool fixed_made_ = false;
