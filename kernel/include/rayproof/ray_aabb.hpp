@@ -156,7 +156,7 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedAabb<T>& p, fast
         return slab_fast_with(r.origin.data(), r.direction.data(), PreparedInverse<T>{ray.inv()}, p.shape.lo.data(),
                               p.shape.hi.data(), r.t_min, r.t_max);
     } else {
-        return common_or_fallback(aabb_fast_common(r, p.shape), [&] { return aabb_fast_general(r, p.shape); });
+        return common_or_fallback(aabb_fast_common(r, p.shape), [&, &s = p.shape] { return aabb_fast_general(r, s); });
     }
 }
 
@@ -517,10 +517,10 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedAabb<T>& p, cons
     if constexpr (is_prepared_ray_v<R>) {
         if (!p.ok || !valid(ray)) return invalid_hit<T>();
         return common_or_fallback(aabb_conservative_common(ray, p.shape),
-                                  [&] { return aabb_conservative_general(ray, p.shape); });
+                                  [&, &s = p.shape] { return aabb_conservative_general(ray, s); });
     } else {
         return common_or_fallback(aabb_conservative_in_t(ray, p.shape),
-                                  [&] { return aabb_conservative_declined(ray, p.shape); });
+                                  [&, &s = p.shape] { return aabb_conservative_declined(ray, s); });
     }
 }
 
@@ -831,14 +831,14 @@ template <class R, class T>
 template <class R, class T>
     requires RayOrPrepared<R, T>
 RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& r, const PreparedAabb<T>& p, certified_t) {
-    return common_or_general(aabb_certified_common(r, p.shape), [&] { return aabb_certified_declined(r, p.shape); });
+    return common_or_general(aabb_certified_common(r, p.shape), [&, &s = p.shape] { return aabb_certified_declined(r, s); });
 }
 
 // The certified verdict alone: the same lanes and the same fallback as the full query.
 template <class R, class T>
     requires RayOrPrepared<R, T>
 RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const R& r, const PreparedAabb<T>& p, certified_t) {
-    return verdict_or(aabb_verdict_common(r, p.shape), [&] { return aabb_certified_declined(r, p.shape).verdict; });
+    return verdict_or(aabb_verdict_common(r, p.shape), [&, &s = p.shape] { return aabb_certified_declined(r, s).verdict; });
 }
 
 }  // namespace rayproof::detail

@@ -118,7 +118,7 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, fas
     if constexpr (is_prepared_ray_v<R>)
         if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
-    return common_or_fallback(plane_fast_common(r, p.shape), [&] { return plane_fast_general(r, p.shape); });
+    return common_or_fallback(plane_fast_common(r, p.shape), [&, &s = p.shape] { return plane_fast_general(r, s); });
 }
 
 // The crossing t = N/D (N = offset - n·o, D = n·d): pinned between two adjacent doubles
@@ -595,7 +595,7 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, con
     if constexpr (is_prepared_ray_v<R>)
         if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
-    return common_or_fallback(plane_conservative_common(r, p.shape), [&] { return plane_conservative_general(r, p.shape); });
+    return common_or_fallback(plane_conservative_common(r, p.shape), [&, &s = p.shape] { return plane_conservative_general(r, s); });
 }
 
 // The certified decisions on a crossing X (PlaneCrossing, or a test's wrapper that
@@ -736,7 +736,7 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedPlane<T>& p, cer
     else
         rest_valid = valid_range(r);
     return common_or_general(plane_certified_common(r, p.shape, rest_valid),
-                             [&] { return plane_certified_declined(ray, p.shape); });
+                             [&, &s = p.shape] { return plane_certified_declined(ray, s); });
 }
 
 // What the verdict filter declines: the full query's verdict, out of line.
@@ -750,7 +750,7 @@ template <class R, class T>
     requires RayOrPrepared<R, T>
 RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const R& ray, const PreparedPlane<T>& p, certified_t) {
     const Ray<T>& r = ray_of(ray);
-    return verdict_or(plane_verdict_common(r, p.shape), [&] { return plane_verdict_declined(r, p.shape); });
+    return verdict_or(plane_verdict_common(r, p.shape), [&, &s = p.shape] { return plane_verdict_declined(r, s); });
 }
 
 }  // namespace rayproof::detail

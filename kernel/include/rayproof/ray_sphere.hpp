@@ -183,7 +183,7 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, fa
     if constexpr (is_prepared_ray_v<R>)
         if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
-    return common_or_fallback(sphere_fast_common(r, p.shape), [&] { return sphere_fast_general(r, p.shape); });
+    return common_or_fallback(sphere_fast_common(r, p.shape), [&, &s = p.shape] { return sphere_fast_general(r, s); });
 }
 
 // An exact tangent, answered from the vertex before the paths that would find it only
@@ -425,8 +425,8 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedSphere<T>& p, co
     if constexpr (is_prepared_ray_v<R>)
         if (!p.ok || !valid(ray)) return invalid_hit<T>();
     const Ray<T>& r = ray_of(ray);
-    return common_or_fallback(sphere_conservative_common(r, p.shape), [&] {
-        return answer_if_valid(r, p.shape, [&] { return sphere_conservative_general(r, p.shape); });
+    return common_or_fallback(sphere_conservative_common(r, p.shape), [&, &s = p.shape] {
+        return answer_if_valid(r, s, [&] { return sphere_conservative_general(r, s); });
     });
 }
 
@@ -453,7 +453,7 @@ template <class R, class T>
     requires RayOrPrepared<R, T>
 RAYPROOF_ALWAYS_INLINE Verdict verdict_query(const R& ray, const PreparedSphere<T>& p, certified_t) {
     const Ray<T>& r = ray_of(ray);
-    return verdict_or(sphere_verdict_common(r, p.shape), [&] { return sphere_verdict_declined(r, p.shape); });
+    return verdict_or(sphere_verdict_common(r, p.shape), [&, &s = p.shape] { return sphere_verdict_declined(r, s); });
 }
 
 }  // namespace rayproof::detail

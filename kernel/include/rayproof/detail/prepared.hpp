@@ -29,6 +29,14 @@ RAYPROOF_ALWAYS_INLINE Prepared<Shape> prepare(const Shape& s) {
     return {s, valid(s)};
 }
 
+// A query's out-of-line fallback is a lambda that captures the shape itself (`&s =
+// p.shape`), never the Prepared: where g++ leaves the lambda's call out of line (it
+// sits on a cold path), a closure holding &p makes it store p in memory, its flag
+// included, so that prepare()'s validity test (valid(s)) is evaluated on every query
+// even where nothing reads the flag (a Ray's fast, conservative and certified queries
+// of the box, the plane and the sphere). Measured in the benchmarks' build (g++ -O2):
+// the fast plane query 5.1 against 3.5 ns, the fast sphere 15.7 against 14.7.
+//
 // Each mode's query opens with `if (!p.ok || !valid(r)) return invalid_hit<T>();`,
 // written out: the same test as a function returning bool, even forced inline, changes
 // g++'s block layout and inlining around it (a few instructions per conservative query,
