@@ -232,14 +232,13 @@ TEST(AffineSpans, AreTheGroupsExponentSpans) {
             all_safe = all_safe && expansion_safe(x);
             all_finite = all_finite && std::isfinite(x);
         };
-        std::ostringstream what;
-        what << std::hexfloat << "case " << it << ":";
+        std::vector<double> given;  // the case's values in call order, for a failure's message
         for (int j = 0; j < 3; ++j) {
             const double o = draw(), d = draw();
             spans.ray(o, d);
             note(positions, o);
             note(directions, d);
-            what << " ray(" << o << ", " << d << ")";
+            given.insert(given.end(), {o, d});
         }
         const int n = 1 + int(rng() % 12);
         for (int i = 0; i < n; ++i) {
@@ -249,17 +248,26 @@ TEST(AffineSpans, AreTheGroupsExponentSpans) {
             note(rows, a1);
             note(rows, a2);
             note(halves, h);
-            what << " row(" << a0 << ", " << a1 << ", " << a2 << ", " << h << ")";
+            given.insert(given.end(), {a0, a1, a2, h});
         }
-        ASSERT_EQ(spans.within(0x1p-100, 0x1p100), all_safe) << what.str();
-        ASSERT_EQ(spans.within(0, std::numeric_limits<double>::max()), all_finite) << what.str();
+        // Formatted only when an assertion fails (gtest streams the message then alone).
+        const auto what = [&] {
+            std::ostringstream os;
+            os << std::hexfloat << "case " << it << ":";
+            for (std::size_t k = 0; k < 6; k += 2) os << " ray(" << given[k] << ", " << given[k + 1] << ")";
+            for (std::size_t k = 6; k < given.size(); k += 4)
+                os << " row(" << given[k] << ", " << given[k + 1] << ", " << given[k + 2] << ", " << given[k + 3] << ")";
+            return os.str();
+        };
+        ASSERT_EQ(spans.within(0x1p-100, 0x1p100), all_safe) << what();
+        ASSERT_EQ(spans.within(0, std::numeric_limits<double>::max()), all_finite) << what();
         const std::optional<AffineShifts> got = spans.shifts(),
                                           want = affine_shifts(positions, rows, halves, directions);
-        ASSERT_EQ(got.has_value(), want.has_value()) << what.str();
+        ASSERT_EQ(got.has_value(), want.has_value()) << what();
         if (want) {
-            ASSERT_EQ(got->sp, want->sp) << what.str();
-            ASSERT_EQ(got->sa, want->sa) << what.str();
-            ASSERT_EQ(got->sd, want->sd) << what.str();
+            ASSERT_EQ(got->sp, want->sp) << what();
+            ASSERT_EQ(got->sa, want->sa) << what();
+            ASSERT_EQ(got->sd, want->sd) << what();
             shifted += want->sp != 0 || want->sa != 0 || want->sd != 0;
         } else {
             ++unscalable;
