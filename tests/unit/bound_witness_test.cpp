@@ -25,6 +25,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 using namespace rayproof;
 
@@ -174,6 +175,24 @@ TYPED_TEST(BoundWitness, ObbDetFilterGamma1) {
     const Ray<T> ray{Vec3<T>(-4, 0, 0), Vec3<T>(1, 0, 0)};
     EXPECT_EQ(intersect(ray, box, certified).verdict, Verdict::invalid) << repro(ray, box);
     expect_contract(ray, box);
+
+    // obb-det-scaled-no-bound: the same axes times 2^-100 (float and double: the inline
+    // filter's bound declines, its terms scaled alike) and times 2^400 (double: beyond
+    // the inline filter's range) reach obb_axes_independent_rare (detail/validate.hpp),
+    // which scales them back by a power of two to the axes above, the same evaluation:
+    // the same |det~| = 1.695·u·perm~, which only the bound keeps from being taken as a
+    // proof. The mutant trusts the scaled evaluation's sign.
+    std::vector<int> scales{-100};
+    if constexpr (std::is_same_v<T, double>) scales.push_back(400);
+    for (int k : scales) {
+        Mat3<T> scaled;
+        for (int j = 0; j < 9; ++j) scaled.data()[j] = std::ldexp(axes.data()[j], k);
+        const Obb<T> far{Vec3<T>(0, 0, 0), scaled, Vec3<T>(1, 1, 1)};
+        EXPECT_FALSE(oracle::valid(far)) << far;
+        EXPECT_FALSE(detail::obb_axes_independent(scaled)) << "2^" << k << ": " << far;
+        for (const Hit<T>& h : {intersect(ray, far, fast), intersect(ray, far, conservative), intersect(ray, far, certified)})
+            EXPECT_EQ(h.verdict, Verdict::invalid) << "2^" << k << ": " << repro(ray, far);
+    }
 }
 
 // obb-common-bound-gamma1: the certified Obb straight-line path (obb_certified_common in

@@ -4,6 +4,7 @@
 // Every random test is seeded: the seed is printed with every failure and can be set
 // with the environment variable RAYPROOF_SEED (decimal) to replay a run.
 #include <rayproof/detail/exact.hpp>
+#include <rayproof/detail/validate.hpp>
 
 #include "faithful.hpp"
 #include "seeded.hpp"
@@ -732,6 +733,15 @@ template <class T> mpq_class det_q(const Eigen::Matrix<T, 3, 3>& m) {
            q(0, 2) * (q(1, 0) * q(2, 1) - q(1, 1) * q(2, 0));
 }
 
+// det3_sign's answer against mpq, and the Obb validity's own route to det != 0
+// (obb_axes_independent, detail/validate.hpp: the inline filter, then the filter on the
+// axes scaled by a power of two, then det3_sign), for finite entries.
+template <class T> void check_det(const Eigen::Matrix<T, 3, 3>& m) {
+    const int s = sgn(det_q(m));
+    ASSERT_EQ(det3_sign(m), s);
+    ASSERT_EQ(obb_axes_independent(m), s != 0);
+}
+
 template <class T> std::string mat_str(const Eigen::Matrix<T, 3, 3>& m) {
     std::string s;
     for (int i = 0; i < 3; ++i)
@@ -758,7 +768,7 @@ TEST(ExactDet3, RandomMatricesAgainstMpq) {
             m.data()[k] = prev;
         }
         SCOPED_TRACE(mat_str(m));
-        ASSERT_EQ(det3_sign(m), sgn(det_q(m)));
+        ASSERT_NO_FATAL_FAILURE(check_det(m));
     }
 }
 
@@ -769,7 +779,7 @@ TEST(ExactDet3, RandomFloatMatricesAgainstMpq) {
         Eigen::Matrix3f m;
         for (int k = 0; k < 9; ++k) m.data()[k] = rng() % 3 ? any_float(rng) : static_cast<float>(static_cast<int>(rng() % 7) - 3);
         SCOPED_TRACE(mat_str(m));
-        ASSERT_EQ(det3_sign(m), sgn(det_q(m)));
+        ASSERT_NO_FATAL_FAILURE(check_det(m));
     }
 }
 
@@ -801,14 +811,14 @@ template <class T> void singular_suite(std::mt19937_64& rng, const std::vector<i
         SCOPED_TRACE(mat_str(m));
         // Scaling may round a large integer in the subnormal range: then not singular.
         const mpq_class dq = det_q(m);
-        const int s = det3_sign(m);
-        ASSERT_EQ(s, sgn(dq));
+        ASSERT_NO_FATAL_FAILURE(check_det(m));
         (dq == 0 ? zeros : nonzeros)++;
         // Near-singular: one entry moved by one ulp.
         const int k = static_cast<int>(rng() % 9);
         m.data()[k] = std::nextafter(m.data()[k], rng() % 2 ? T(1) : T(-1));
         if (std::isfinite(m.data()[k])) {
-            ASSERT_EQ(det3_sign(m), sgn(det_q(m))) << "perturbed " << k;
+            SCOPED_TRACE("perturbed " + std::to_string(k));
+            ASSERT_NO_FATAL_FAILURE(check_det(m));
         }
         // Swapping two rows flips the sign.
         Eigen::Matrix<T, 3, 3> sw = m;
@@ -835,7 +845,7 @@ TEST(ExactDet3, UniformlyScaledAgainstMpq) {
         const int e = static_cast<int>(rng() % 2000) - 1000;
         for (int k = 0; k < 9; ++k) m.data()[k] = std::ldexp(m.data()[k], e);
         SCOPED_TRACE(mat_str(m));
-        ASSERT_EQ(det3_sign(m), sgn(det_q(m)));
+        ASSERT_NO_FATAL_FAILURE(check_det(m));
         rescaled += !expansion_safe(m);
     }
     EXPECT_GT(rescaled, 4000);

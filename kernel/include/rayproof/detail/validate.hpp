@@ -64,18 +64,22 @@ template <class T> bool valid(const ConvexPolyhedron<T>& c) {
 }
 
 // The exact sign of det(axes) decides linear dependence (det3_sign, detail/exact.hpp);
-// most boxes are decided by an inline filter first, without a call: det and perm (the
-// sum of the monomials' magnitudes) in double in det3_sign's order, with every entry's
-// magnitude at most 2^300 (so no product overflows). det3_sign's derivation bounds the
-// error by gamma(6)·perm~ while no product underflows; a product in the subnormal range
-// is off by at most 2^-1075, and multiplied by an entry (at most 2^300), each of the 12
-// rounded products carries at most 2^-774 into det and perm. So |det~ - det| <=
-// gamma(6)·perm~·(1 + 2^-50) + 2^-770, and fl(fl(gamma(7)·perm~) + 2^-760) (two
-// roundings of a value at least gamma(7)(1 - u)^2·perm~ + 2^-760(1 - u)) exceeds it:
-// |det~| above that proves det != 0. Otherwise det3_sign decides, out of line. The
-// answer is the exact one either way.
+// most boxes are decided by an inline filter first, without a call. det3_filter
+// evaluates det and perm (the sum of the monomials' magnitudes) in double in det3_sign's
+// order. With every entry's magnitude at most 2^300 (so no product overflows),
+// det3_sign's derivation bounds the error by gamma(6)·perm~ while no product underflows;
+// a product in the subnormal range is off by at most 2^-1075, and multiplied by an entry
+// (at most 2^300), each of the 12 rounded products carries at most 2^-774 into det and
+// perm. So |det~ - det| <= gamma(6)·perm~·(1 + 2^-50) + 2^-770, and fl(fl(gamma(7)·perm~)
+// + 2^-760) (two roundings of a value at least gamma(7)(1 - u)^2·perm~ + 2^-760(1 - u))
+// exceeds it: |det~| above that proves det != 0. Float entries are below 2^128, so only
+// double input tests the range; a float query pays no loop over the entries.
 // Contraction: class C1 (a fused evaluation has fewer roundings).
-template <class T> RAYPROOF_ALWAYS_INLINE bool obb_axes_independent(const Eigen::Matrix<T, 3, 3>& m) {
+template <class T> struct Det3Filter {
+    double det, perm;
+    bool in_range;  // every |entry| at most 2^300 (always, for float)
+};
+template <class T> RAYPROOF_ALWAYS_INLINE Det3Filter<T> det3_filter(const Eigen::Matrix<T, 3, 3>& m) {
     const double a = m(0, 0), b = m(0, 1), c = m(0, 2);
     const double d = m(1, 0), e = m(1, 1), f = m(1, 2);
     const double g = m(2, 0), h = m(2, 1), i = m(2, 2);
@@ -83,15 +87,48 @@ template <class T> RAYPROOF_ALWAYS_INLINE bool obb_axes_independent(const Eigen:
     const double perm = std::abs(a) * (std::abs(e) * std::abs(i) + std::abs(f) * std::abs(h)) +
                         std::abs(b) * (std::abs(d) * std::abs(i) + std::abs(f) * std::abs(g)) +
                         std::abs(c) * (std::abs(d) * std::abs(h) + std::abs(e) * std::abs(g));
-    double amax = 0;
-    for (int k = 0; k < 9; ++k) {
-        const double x = std::abs(double(m.data()[k]));
-        amax = x > amax ? x : amax;
+    if constexpr (std::is_same_v<T, float>) {
+        return {det, perm, true};
+    } else {
+        double amax = 0;
+        for (int k = 0; k < 9; ++k) {
+            const double x = std::abs(double(m.data()[k]));
+            amax = x > amax ? x : amax;
+        }
+        return {det, perm, amax <= 0x1p300};
     }
-    const double bound = gamma<double>(7) * perm + 0x1p-760;
-    if (int(amax <= 0x1p300) & int(std::abs(det) > bound)) [[likely]]
-        return true;
+}
+template <class T> RAYPROOF_ALWAYS_INLINE bool det3_filter_proves(const Det3Filter<T>& f) {
+    return int(f.in_range) & int(std::abs(f.det) > gamma<double>(7) * f.perm + 0x1p-760);
+}
+
+// What the inline filter leaves (entries beyond 2^300, or a determinant lost to
+// underflow or to rounding): the same filter on the axes scaled by the power of two 2^k
+// that brings the largest magnitude amax into [1, 2), then det3_sign. det(2^k·M) =
+// 2^(3k)·det(M) has det(M)'s sign. The scaled entries M' = fl(2^k·M) are exact unless
+// one falls below 2^-1022, and then within 2^-1073 of 2^k·M's (times_pow2: two
+// roundings in the subnormal range at most); det is multilinear with every minor of
+// entries at most 2 below 8 in magnitude, so |det(M') - det(2^k·M)| < 9·2^-1073·8·(1 +
+// 2^-40) < 2^-1066. The filter's bound on M' (every entry at most 2, so the argument
+// above applies with room: each rounded product carries at most 2^-1073 into det and
+// perm) covers that too: |det~| > fl(fl(gamma(7)·perm~) + 2^-760) proves det(2^k·M)
+// != 0, hence det(M) != 0. The entries are finite here (valid(Obb) tests them first).
+template <class T> [[gnu::noinline, gnu::cold]] bool obb_axes_independent_rare(const Eigen::Matrix<T, 3, 3>& m) {
+    double amax = 0;
+    for (int k = 0; k < 9; ++k) amax = std::max(amax, std::abs(double(m.data()[k])));
+    if (amax > 0) {
+        const int s = -binary_exponent(amax);  // amax·2^s in [1, 2); |s| <= 1074
+        Eigen::Matrix<double, 3, 3> w;
+        for (int k = 0; k < 9; ++k) w.data()[k] = times_pow2(double(m.data()[k]), s);
+        if (det3_filter_proves(det3_filter(w))) return true;
+    }
     return det3_sign(m) != 0;
+}
+
+template <class T> RAYPROOF_ALWAYS_INLINE bool obb_axes_independent(const Eigen::Matrix<T, 3, 3>& m) {
+    if (det3_filter_proves(det3_filter(m))) [[likely]]
+        return true;
+    return obb_axes_independent_rare(m);
 }
 
 template <class T> RAYPROOF_ALWAYS_INLINE bool valid(const Obb<T>& b) {
