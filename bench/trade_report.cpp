@@ -142,6 +142,8 @@ struct Timing {
     double hit_rate = NAN;
     double cases = NAN;
     double ratio = NAN;  // paired/ benchmarks: the second method over the first, median over pairs
+                         // (over the processes too, where the pairs ran in more than one)
+    std::vector<double> process_ratios;  // paired/ benchmarks: each process's ratio, where more than one
     double a_ns = NAN, b_ns = NAN, delta_ns = NAN;  // fpenv/ pairs: each pass per query, their difference
 };
 
@@ -335,6 +337,13 @@ struct Report {
         const auto it = timing.find("paired/" + shape + "/" + type + "/" + w + "/" + pair);
         return it == timing.end() ? NAN : it->second.ratio;
     }
+    // Each process's ratio of that pair, where it ran in more than one (else empty).
+    const std::vector<double>& paired_runs(const std::string& shape, const std::string& type, const std::string& w,
+                                           const std::string& pair) const {
+        static const std::vector<double> none;
+        const auto it = timing.find("paired/" + shape + "/" + type + "/" + w + "/" + pair);
+        return it == timing.end() ? none : it->second.process_ratios;
+    }
 };
 
 std::string summary_table(const Report& r) {
@@ -392,14 +401,28 @@ std::string ladder_table(const Report& r) {
                 }
                 ++cells_here;
                 met += q <= g.limit;
-                cells.push_back(num(q, 3) + "× " + (q <= g.limit ? "yes" : "**no**"));
+                std::string cell = num(q, 3) + "× " + (q <= g.limit ? "yes" : "**no**");
+                if (const std::vector<double>& v = r.paired_runs(s, t, g.workload, g.pair); v.size() > 1) {
+                    const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+                    cell += " (" + num(*lo, 3) + "–" + num(*hi, 3) + ")";
+                }
+                cells.push_back(cell);
             }
             cells.push_back(fmt::format("{} of {}", met, cells_here));
             met_all += met;
             cells_all += cells_here;
             o += row(cells);
         }
-    return prose()("ladder", {{"table", o}, {"met", std::to_string(met_all)}, {"cells", std::to_string(cells_all)}});
+    std::size_t processes = 1;
+    for (const auto& [name, t] : r.timing) processes = std::max(processes, t.process_ratios.size());
+    std::string processes_text;
+    if (processes > 1)
+        processes_text =
+            prose()("ladder.processes", {{"n", std::to_string(processes)}, {"extra", std::to_string(processes - 1)}});
+    return prose()("ladder", {{"table", o},
+                              {"met", std::to_string(met_all)},
+                              {"cells", std::to_string(cells_all)},
+                              {"processes", processes_text}});
 }
 
 // ---- the box packets (issue #17): ns per box test ----------------------------------
@@ -1008,10 +1031,31 @@ void write_plot_script(const std::string& path, const std::string& png) {
 }
 
 // ---- the command line and the outputs -----------------------------------------------
+// The paired/ ratios of further processes of the benchmark program: a process on a
+// shared machine may draw a speed and keep it for its whole run, moving both halves of a
+// pair but not always alike (docs/trade.md), so each ratio becomes the median over the
+// processes (for an even count, the mean of the middle two), each process's kept.
+void merge_paired(Report& r, const std::vector<std::string>& paths) {
+    if (paths.empty()) return;
+    std::vector<std::map<std::string, Timing>> runs;
+    for (const auto& p : paths) runs.push_back(read_bench(p, nullptr, nullptr));
+    for (auto& [name, t] : r.timing) {
+        if (name.rfind("paired/", 0) != 0 || std::isnan(t.ratio)) continue;
+        std::vector<double> v{t.ratio};
+        for (const auto& run : runs)
+            if (const auto it = run.find(name); it != run.end() && !std::isnan(it->second.ratio))
+                v.push_back(it->second.ratio);
+        t.process_ratios = v;
+        std::sort(v.begin(), v.end());
+        const std::size_t n = v.size();
+        t.ratio = n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
+    }
+}
+
 struct Args {
     std::string bench, counters, tracer, tracer_facts, md, plot_dir, plot_png, plot_ref, tracer_png, audit, summary_md;
     std::string render_md, packets, batch_avx2;
-    std::vector<std::string> accuracy, bvh;
+    std::vector<std::string> accuracy, bvh, paired;
     std::vector<std::pair<std::string, std::string>> meta;
 };
 
@@ -1031,6 +1075,9 @@ std::optional<int> parse_args(int argc, char** argv, Args& a) {
                    "the BVH timings: lines KEY VALUE (rayproof_bvh_bench's and the generated scenes', scene-N-MODE "
                    "seconds; repeatable)");
     app.add_option("--packets", a.packets, "rayproof_packet_bench's JSON (the box packets' table)");
+    app.add_option("--paired", a.paired,
+                   "rayproof_bench's JSON of another process's paired/ benchmarks (repeatable): each pair's ratio "
+                   "becomes the median over --bench's process and these");
     app.add_option("--batch-avx2", a.batch_avx2, "rayproof_batch_bench_avx2's JSON (the batch table's AVX2 rows)");
     app.add_option("--render-md", a.render_md, "write render/README.md's paragraph on speed here");
     app.add_option("--meta", meta, "a line of the report's head (repeatable)")
@@ -1058,6 +1105,7 @@ Report load(const Args& a) {
     if (!a.batch_avx2.empty()) r.timing.merge(read_bench(a.batch_avx2, nullptr, nullptr));  // names distinct: *_avx2
     r.accuracy = read_accuracy(a.accuracy);
     if (!a.packets.empty()) read_packets(a.packets, r);
+    merge_paired(r, a.paired);
     if (!a.tracer.empty()) {
         std::ifstream in(a.tracer);
         std::string label;
