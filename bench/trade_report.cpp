@@ -334,15 +334,20 @@ struct Report {
     // epeck_over_certified_verdict), NaN when not measured.
     double paired(const std::string& shape, const std::string& type, const std::string& w,
                   const std::string& pair) const {
-        const auto it = timing.find("paired/" + shape + "/" + type + "/" + w + "/" + pair);
-        return it == timing.end() ? NAN : it->second.ratio;
+        const Timing* t = pair_timing(shape, type, w, pair);
+        return t ? t->ratio : NAN;
     }
     // Each process's ratio of that pair, where it ran in more than one (else empty).
     const std::vector<double>& paired_runs(const std::string& shape, const std::string& type, const std::string& w,
                                            const std::string& pair) const {
         static const std::vector<double> none;
+        const Timing* t = pair_timing(shape, type, w, pair);
+        return t ? t->process_ratios : none;
+    }
+    const Timing* pair_timing(const std::string& shape, const std::string& type, const std::string& w,
+                              const std::string& pair) const {
         const auto it = timing.find("paired/" + shape + "/" + type + "/" + w + "/" + pair);
-        return it == timing.end() ? none : it->second.process_ratios;
+        return it == timing.end() ? nullptr : &it->second;
     }
 };
 

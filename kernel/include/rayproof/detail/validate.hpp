@@ -75,11 +75,11 @@ template <class T> bool valid(const ConvexPolyhedron<T>& c) {
 // exceeds it: |det~| above that proves det != 0. Float entries are below 2^128, so only
 // double input tests the range; a float query pays no loop over the entries.
 // Contraction: class C1 (a fused evaluation has fewer roundings).
-template <class T> struct Det3Filter {
+struct Det3Filter {
     double det, perm;
     bool in_range;  // every |entry| at most 2^300 (always, for float)
 };
-template <class T> RAYPROOF_ALWAYS_INLINE Det3Filter<T> det3_filter(const Eigen::Matrix<T, 3, 3>& m) {
+template <class T> RAYPROOF_ALWAYS_INLINE Det3Filter det3_filter(const Eigen::Matrix<T, 3, 3>& m) {
     const double a = m(0, 0), b = m(0, 1), c = m(0, 2);
     const double d = m(1, 0), e = m(1, 1), f = m(1, 2);
     const double g = m(2, 0), h = m(2, 1), i = m(2, 2);
@@ -98,7 +98,7 @@ template <class T> RAYPROOF_ALWAYS_INLINE Det3Filter<T> det3_filter(const Eigen:
         return {det, perm, amax <= 0x1p300};
     }
 }
-template <class T> RAYPROOF_ALWAYS_INLINE bool det3_filter_proves(const Det3Filter<T>& f) {
+RAYPROOF_ALWAYS_INLINE bool det3_filter_proves(const Det3Filter& f) {
     return int(f.in_range) & int(std::abs(f.det) > gamma<double>(7) * f.perm + 0x1p-760);
 }
 
