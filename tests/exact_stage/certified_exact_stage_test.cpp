@@ -239,21 +239,25 @@ TYPED_TEST(CertifiedExactStage, Obb) { run_shape<TypeParam, Obb<TypeParam>>(); }
 TYPED_TEST(CertifiedExactStage, Plane) { run_shape<TypeParam, Plane<TypeParam>>(); }
 TYPED_TEST(CertifiedExactStage, Sphere) { run_shape<TypeParam, Sphere<TypeParam>>(); }
 // The Aabb's exact comparisons through its frame, which compares without an expansion
-// type (quick_compare: compare_slab_values, exact.hpp) and at a safer scale where the
-// input is not safe (AabbScaledQuotients), decide as its bare quotients in expansions
-// or BigDyadic: on every valid case of every generator, every pair among the slab
-// values of the non-parallel axes and the constants t_min, t_max, 0, the slab values'
-// rounded estimates and their neighbours (near ties) has the same exact_compare sign
-// both ways; and for double the scaled path is taken on many of the cases (extreme
-// exponents, scaled integer configurations).
+// type at any scale where its products are exact (compare_at_any_scale:
+// compare_slab_values, exact.hpp) and otherwise at a safer scale where the input is not
+// safe (AabbScaledQuotients), decide as its bare quotients in expansions or BigDyadic:
+// on every valid case of every generator, every pair among the slab values of the
+// non-parallel axes and the constants t_min, t_max, 0, the slab values' rounded
+// estimates and their neighbours (near ties) has the same exact_compare sign both ways,
+// and so has the rescaled source on its own wherever it exists (every pair whose
+// constants it scales exactly); and for double the rescaled source exists on many of
+// the cases (extreme exponents, scaled integer configurations) and is the route taken
+// on some pairs (a product beyond the exact range).
 TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
     using T = TypeParam;
-    int scaled_cases = 0;
+    int scaled_cases = 0, scaled_route = 0;
     on_valid_cases<T, Aabb<T>>("the comparisons", [&](const auto& c, const std::string& where, bool& answered) {
         answered = true;
         const detail::AabbFrame<T> f(c.ray, c.shape);
         const detail::Unscaled<detail::AabbFrame<T>> bare{f};
-        scaled_cases += !f.safe() && f.scaled().has_value();
+        const bool scaled = !f.safe() && f.scaled().has_value();
+        scaled_cases += scaled;
         std::vector<detail::SlabRef> refs{{-1, 0, c.ray.t_min}, {-1, 0, c.ray.t_max}, {-1, 0, 0.0}};
         for (int i = 0; i < 3; ++i) {
             if (c.ray.direction[i] == 0) continue;
@@ -269,13 +273,25 @@ TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
         for (const auto& a : refs)
             for (const auto& b : refs) {
                 if (a.axis < 0 && b.axis < 0) continue;
-                ASSERT_EQ(detail::exact_compare(f, a, b), detail::exact_compare(bare, a, b))
+                const int expected = detail::exact_compare(bare, a, b);
+                ASSERT_EQ(detail::exact_compare(f, a, b), expected)
                     << where << ": " << c.ray << " vs " << c.shape << "\n  refs (" << a.axis << ", " << a.side << ", "
                     << a.c << ") and (" << b.axis << ", " << b.side << ", " << b.c << ")";
+                if (!scaled) continue;
+                scaled_route += !f.compare_at_any_scale(a, b).has_value();
+                const auto& sc = *f.scaled();
+                detail::SlabRef sa = a, sb = b;
+                if ((a.axis >= 0 || detail::scale_exactly(a.c, sc.shift(), sa.c)) &&
+                    (b.axis >= 0 || detail::scale_exactly(b.c, sc.shift(), sb.c))) {
+                    ASSERT_EQ(detail::exact_compare(sc, sa, sb), expected)
+                        << where << ", rescaled: " << c.ray << " vs " << c.shape << "\n  refs (" << a.axis << ", "
+                        << a.side << ", " << a.c << ") and (" << b.axis << ", " << b.side << ", " << b.c << ")";
+                }
             }
     });
     if constexpr (std::is_same_v<T, double>) {  // every float is safe
         EXPECT_GT(scaled_cases, 100) << "the scaled comparisons should be exercised";
+        EXPECT_GT(scaled_route, 100) << "comparisons beyond the exact range should take the rescaled values";
     }
 }
 

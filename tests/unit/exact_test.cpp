@@ -1010,7 +1010,7 @@ TEST(ExactSlabValues, ComparisonsAgainstMpq) {
         SCOPED_TRACE(hex(p1) + " " + hex(o1) + " " + hex(d1) + " vs " + hex(p2) + " " + hex(o2) + " " + hex(d2));
         const mpq_class v1 = (Q(p1) - Q(o1)) / Q(d1), v2 = (Q(p2) - Q(o2)) / Q(d2);
         ties += v1 == v2;
-        ASSERT_EQ(compare_slab_values(p1, o1, d1, p2, o2, d2), sgn(v1 - v2));
+        ASSERT_EQ(compare_slab_values(p1, o1, d1, p2, o2, d2), std::optional<int>(sgn(v1 - v2)));
         const double near = v1.get_d();
         for (const double t : {near, std::nextafter(near, 1e308), std::nextafter(near, -1e308), 0.0, 0x1p-1000, -0x1p1000,
                                std::numeric_limits<double>::denorm_min()}) {
@@ -1024,6 +1024,74 @@ TEST(ExactSlabValues, ComparisonsAgainstMpq) {
     }
     EXPECT_GT(ties, 1000) << "exact ties should be exercised";
     EXPECT_GT(declined, 1000) << "constants out of the exact range should be declined";
+}
+
+// The same comparisons at any scale (they check their own products, so that the Aabb's
+// frame can ask them before rescaling): positions and directions from the whole double
+// range (extreme exponents, subnormals, near-equal pairs), the second value the first
+// scaled by 2^k, |k| up to 600, in all three numbers (an exact tie) or that tie moved by
+// an ulp, and constants near the value. Every answer agrees with GMP; on input safe for
+// expansions none declines; and each route is taken: ties of exact differences (two
+// rounded pairs), differences with an error term (the eight-term sum), answers on input
+// outside the safe range, and declines.
+TEST(ExactSlabValues, ComparisonsAtAnyScaleAgainstMpq) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    const auto nonzero = [&](double prev) {
+        for (;;) {
+            const double d = interesting(rng, prev);
+            if (d != 0) return d;
+            prev = 1;
+        }
+    };
+    int ties = 0, with_error_term = 0, unsafe_answered = 0, declined = 0, constants_answered = 0;
+    for (int it = 0; it < 40000; ++it) {
+        const double p1 = interesting(rng, 1), o1 = interesting(rng, p1), d1 = nonzero(o1);
+        double p2, o2, d2;
+        if (rng() % 2) {
+            const int k = static_cast<int>(rng() % 1201) - 600;
+            p2 = std::ldexp(p1, k);
+            o2 = std::ldexp(o1, k);
+            d2 = std::ldexp(d1, k);
+            double* moved[] = {&p2, &o2, &d2};
+            if (rng() % 2) {
+                double& m = *moved[rng() % 3];
+                m = std::nextafter(m, rng() % 2 ? 1e308 : -1e308);
+            }
+            if (!(std::isfinite(p2) && std::isfinite(o2) && std::isfinite(d2)) || d2 == 0) continue;
+        } else {
+            p2 = interesting(rng, p1);
+            o2 = interesting(rng, p2);
+            d2 = nonzero(o2);
+        }
+        SCOPED_TRACE(hex(p1) + " " + hex(o1) + " " + hex(d1) + " vs " + hex(p2) + " " + hex(o2) + " " + hex(d2));
+        const mpq_class v1 = (Q(p1) - Q(o1)) / Q(d1), v2 = (Q(p2) - Q(o2)) / Q(d2);
+        const bool safe = expansion_safe(p1) && expansion_safe(o1) && expansion_safe(d1) && expansion_safe(p2) &&
+                          expansion_safe(o2) && expansion_safe(d2);
+        const std::optional<int> s = compare_slab_values(p1, o1, d1, p2, o2, d2);
+        if (!s) {
+            ASSERT_FALSE(safe) << "declined on input safe for expansions";
+            ++declined;
+        } else {
+            ASSERT_EQ(*s, sgn(v1 - v2));
+            ties += v1 == v2;
+            with_error_term += two_sum(p1, -o1).lo != 0 || two_sum(p2, -o2).lo != 0;
+            unsafe_answered += !safe;
+        }
+        const double near = v1.get_d();
+        for (const double t : {near, std::nextafter(near, 1e308), std::nextafter(near, -1e308), 0.0}) {
+            if (!std::isfinite(t)) continue;
+            if (const std::optional<int> c = compare_slab_value(p1, o1, d1, t)) {
+                ASSERT_EQ(*c, sgn(v1 - Q(t))) << "t = " << hex(t);
+                ++constants_answered;
+            }
+        }
+    }
+    EXPECT_GT(ties, 1000) << "exact ties should be exercised";
+    EXPECT_GT(with_error_term, 1000) << "differences with an error term should be exercised";
+    EXPECT_GT(unsafe_answered, 5000) << "input outside the safe range should be answered";
+    EXPECT_GT(declined, 500) << "products outside the exact range should be declined";
+    EXPECT_GT(constants_answered, 40000) << "comparisons with constants should be exercised";
 }
 
 // ================================================================= with_exact

@@ -157,6 +157,12 @@ template <ExactQuotients Source> int exact_compare(const Source& f, const SlabRe
     if (a.axis < 0 && std::isinf(a.c)) return a.c > 0 ? 1 : -1;
     if (b.axis < 0 && std::isinf(b.c)) return b.c > 0 ? -1 : 1;
     if (a.axis < 0 && b.axis < 0) return (a.c > b.c) - (a.c < b.c);
+    // A source may offer compare_at_any_scale(a, b): the sign without an expansion type on
+    // the input as given, exact at every scale by its own range checks, or none where a
+    // check fails (the Aabb's slab values: compare_slab_values, a few products checked).
+    // Tried before a rescaled copy is made, which it mostly makes unnecessary.
+    if constexpr (requires { f.compare_at_any_scale(a, b); })
+        if (const std::optional<int> q = f.compare_at_any_scale(a, b)) return *q;
     if constexpr (requires { f.scaled(); }) {
         if (!f.safe())
             if (const auto& s = f.scaled()) {
@@ -167,8 +173,8 @@ template <ExactQuotients Source> int exact_compare(const Source& f, const SlabRe
             }
     }
     // A source may also offer quick_compare(a, b): the same sign without an expansion type
-    // (the Aabb's slab values, compare_slab_values; the Obb's, ObbQuotients), or none
-    // where it cannot decide it exactly (the Aabb's for input not safe for expansions).
+    // (the Aabb's rescaled slab values, compare_slab_values; the Obb's, ObbQuotients), or
+    // none where it cannot decide it exactly.
     if constexpr (requires { f.quick_compare(a, b); })
         if (const std::optional<int> q = f.quick_compare(a, b)) return *q;
     const std::optional<int> s = with_exact(f.safe(), [&](auto tag) -> std::optional<int> {

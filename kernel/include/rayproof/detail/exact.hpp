@@ -892,24 +892,57 @@ inline int exact_sum_sign(const double* x, int n) {
     return s.sign();
 }
 
-// sign((p1 − o1)/d1 − (p2 − o2)/d2) for slab values with d1, d2 != 0 and every input 0
-// or in [2^-100, 2^100] (expansion_safe), without an expansion type: p − o = s + e
-// exactly (two_sum), each product by the other denominator exactly two doubles
-// (two_prod: |s·d| >= 2^-200 and |e·d| >= 2^-253 where nonzero, far above 2^-916),
-// and the sign of the eight-term sum times sign(d1 d2).
-inline int compare_slab_values(double p1, double o1, double d1, double p2, double o2, double d2) {
-    const Pair n1 = two_sum(p1, -o1), n2 = two_sum(p2, -o2);
-    const Pair a = two_prod(n1.hi, d2), b = two_prod(n1.lo, d2), c = two_prod(n2.hi, d1), d = two_prod(n2.lo, d1);
-    const double x[8] = {a.lo, b.lo, -c.lo, -d.lo, a.hi, b.hi, -c.hi, -d.hi};
-    return exact_sum_sign(x, 8) * ((d1 > 0) == (d2 > 0) ? 1 : -1);
+// Whether two_prod(x, y) (x finite or not, y finite and nonzero) was exact with its hi
+// at most 2^1000: x == 0 (the product is 0), or |hi| in [2^-916, 2^1000], where the
+// error term is normal, hence exact (eft.hpp); false for a NaN or infinite hi.
+RAYPROOF_ALWAYS_INLINE bool exact_product_taken(double x, double hi) {
+    const double a = std::abs(hi);
+    return int(x == 0) | (int(a >= exact_impl::kMinExactProduct) & int(a <= 0x1p1000));
 }
-// sign((p − o)/d − t) likewise for a finite t, or none where t·d may be inexact (its
-// error term subnormal) or overflow.
+
+// sign(x - y) for reals x = x.hi + x.lo and y = y.hi + y.lo (exactly) whose hi parts
+// are their roundings to nearest (two_sum's and two_prod's results): rounding is
+// monotone, so x <= y would give x.hi <= y.hi, and x.hi > y.hi proves x > y (likewise
+// <); on equal hi parts x - y = x.lo - y.lo exactly, whose sign the rounded difference
+// keeps (a difference of two doubles rounds to 0 only when it is 0). Two comparisons,
+// no sum.
+RAYPROOF_ALWAYS_INLINE int compare_rounded_pairs(const Pair& x, const Pair& y) {
+    const int hi = int(x.hi > y.hi) - int(x.hi < y.hi), lo = int(x.lo > y.lo) - int(x.lo < y.lo);
+    return hi != 0 ? hi : lo;
+}
+
+// sign((p1 − o1)/d1 − (p2 − o2)/d2) for finite slab values with d1, d2 finite and
+// nonzero, without an expansion type, for input of any range: p − o = s + e exactly
+// (two_sum), each part's product by the other denominator exactly two doubles where
+// exact_product_taken says so, and the sign of s1·d2 + e1·d2 − s2·d1 − e2·d1 times
+// sign(d1 d2). None where a product may be inexact. two_sum is exact unless one of its
+// steps overflows, and then its error term is ±inf or NaN (an infinite step propagates
+// to it), whose product fails the check. Every input 0 or in [2^-100, 2^100]
+// (expansion_safe) always passes: |s·d| >= 2^-200 and |e·d| >= 2^-253 where nonzero,
+// below 2^201.
+// Where both differences are exact (e1 = e2 = 0: the common case, and every grazing
+// configuration of small integers), the sign is that of s1·d2 − s2·d1, two exact
+// products as rounded pairs (compare_rounded_pairs); otherwise that of the eight-term
+// sum (each term at most 2^1000: it cannot overflow), grown exactly.
+inline std::optional<int> compare_slab_values(double p1, double o1, double d1, double p2, double o2, double d2) {
+    const Pair n1 = two_sum(p1, -o1), n2 = two_sum(p2, -o2);
+    const Pair a = two_prod(n1.hi, d2), c = two_prod(n2.hi, d1);
+    if (!(exact_product_taken(n1.hi, a.hi) & exact_product_taken(n2.hi, c.hi))) return std::nullopt;
+    const int sign_d = (d1 > 0) == (d2 > 0) ? 1 : -1;
+    if (n1.lo == 0 && n2.lo == 0) return compare_rounded_pairs(a, c) * sign_d;
+    const Pair b = two_prod(n1.lo, d2), d = two_prod(n2.lo, d1);
+    if (!(exact_product_taken(n1.lo, b.hi) & exact_product_taken(n2.lo, d.hi))) return std::nullopt;
+    const double x[8] = {a.lo, b.lo, -c.lo, -d.lo, a.hi, b.hi, -c.hi, -d.hi};
+    return exact_sum_sign(x, 8) * sign_d;
+}
+// sign((p − o)/d − t) likewise for a finite t: the sign of (s + e) − t·d, s + e = p − o
+// (two_sum: s its rounding) and t·d (two_prod) both as rounded pairs
+// (compare_rounded_pairs); none where t·d may be inexact or e is not finite (a step of
+// two_sum overflowed).
 inline std::optional<int> compare_slab_value(double p, double o, double d, double t) {
     const Pair n = two_sum(p, -o), td = two_prod(t, d);
-    if (!(t == 0 || (std::abs(td.hi) >= exact_impl::kMinExactProduct && std::abs(td.hi) <= 0x1p1000))) return std::nullopt;
-    const double x[4] = {n.lo, -td.lo, n.hi, -td.hi};
-    return exact_sum_sign(x, 4) * (d > 0 ? 1 : -1);
+    if (!(exact_product_taken(t, td.hi) & int(n.lo - n.lo == 0))) return std::nullopt;
+    return compare_rounded_pairs(n, td) * (d > 0 ? 1 : -1);
 }
 
 // The determinant a(ei − fh) − b(di − fg) + c(dh − eg) in an exact type.
