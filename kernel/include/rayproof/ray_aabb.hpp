@@ -26,12 +26,11 @@
 //            not normal and finite (|d_i| beyond 2^1022, d_i == 0, or subnormal) or an
 //            overflowed winner goes to the interval path (slab_conservative on
 //            AabbFrame, outward rounding per operation), which the enclosures below
-//            also feed: there each slab value t~ = fl(fl(p - o)·fl(1/d)) gets the
-//            enclosure [t~ - K|t~|, t~ + K|t~|] with K = 2·gamma(3), which covers
-//            gamma(3)/(1 - gamma(3))|t~| and the two roundings of its own ends (K|t~|(1
-//            - u) - u|t~|(1 + K) >= gamma(3)/(1 - gamma(3))|t~|), valid while 1/d is
-//            normal and t~ is finite and normal (or t~ == 0 from p == o), decided per
-//            slab value; otherwise an outward-rounded interval division is used.
+//            also feed: there each slab value t~ = fl(fl(p - o)·fl(1/d)) (fl(fl(p -
+//            o)/d) where 1/d is not normal and finite) gets the enclosure t~ ∓
+//            (K|t~| + 2^-1022) with K = 2·gamma(3), the bound of the conservative path
+//            (the derivation is at aabb_conservative_common), valid while t~ is
+//            finite; an overflowed one gets an outward-rounded interval division.
 //            Parallel axes are decided exactly (comparisons of floats).
 //            certified — the same enclosures decide every comparison they separate;
 //            overlapping ones are decided by exact arithmetic (detail/exact.hpp). The
@@ -286,29 +285,36 @@ public:
 
 private:
     // rinv: the prepared ray's fl(1/d_i), or nullptr: divided here (the same values).
+    // Each slab value t~ = fl(fl(p - o)·fl(1/d)) where 1/d is normal and finite, else
+    // fl(fl(p - o)/d) (|d| beyond 2^1022, or so small that 1/d overflows): within
+    // gamma(3)|t| + 2^-1075 of t either way (three roundings or two; p - o is exact
+    // when it is subnormal, and an underflowed product or quotient is off by at most
+    // 2^-1075). Its enclosure is t~ ∓ B(t~), B(v) = fl(fl(K|v|) + eta), K = 2·gamma(3),
+    // eta = 2^-1022: the bound of aabb_conservative_common, whose derivation covers that
+    // error and the two roundings of the ends, underflow included. ok_[i][side]: t~ is
+    // finite, so the enclosure holds; an overflowed value is enclosed by an
+    // outward-rounded division instead (enclose).
     template <class Rinv>
     AabbFrame(const Ray<T>& r, const Aabb<T>& b, Rinv rinv) : o_(r.origin.data()), d_(r.direction.data()), b_(&b) {
-        // K = 2·gamma(3): see the header comment.
-        constexpr double K = 2 * gamma<double>(3);
-        // ok_[i][side]: the enclosure below holds for that slab value (each depends on
-        // its own reciprocal and value only).
+        constexpr double K = 2 * gamma<double>(3), eta = std::numeric_limits<double>::min();
         for (int i = 0; i < 3; ++i) {
             ok_[i][0] = ok_[i][1] = true;
             if (d_[i] == 0) continue;
+            const double d = double(d_[i]);
             double inv;
             if constexpr (std::is_null_pointer_v<Rinv>)
-                inv = 1.0 / double(d_[i]);
+                inv = 1.0 / d;
             else
                 inv = rinv[i];
             const bool inv_ok =
                 std::abs(inv) >= std::numeric_limits<double>::min() && std::abs(inv) <= std::numeric_limits<double>::max();
             for (int side = 0; side < 2; ++side) {
                 const double s = double(plane(i, side)) - double(o_[i]);
-                const double t = s * inv;
+                const double t = inv_ok ? s * inv : s / d;
                 const double a = std::abs(t);
-                ok_[i][side] = inv_ok && ((a >= 0x1p-1000 && a <= std::numeric_limits<double>::max()) || s == 0);
+                ok_[i][side] = a <= std::numeric_limits<double>::max();
                 t_[i][side] = t;
-                e_[i][side] = a * K;
+                e_[i][side] = K * a + eta;
             }
         }
     }
