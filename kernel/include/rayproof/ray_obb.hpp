@@ -451,14 +451,14 @@ template <class T>
     bool went_exact = false;
     const ObbExact<T> src(r, b);
     int sden[3];  // the exact sign of d'_i
-    double in_v[3][2], out_v[3][2];
+    SlabEnclosures v;
     for (int i = 0; i < 3; ++i) {
         const bool enclosed = ((known >> i) & 1) && std::isfinite(lane0(lo[i])) && std::isfinite(lane0(hi[i])) &&
                               std::isfinite(lane1(lo[i])) && std::isfinite(lane1(hi[i]));
         if (enclosed) {
             sden[i] = ((negative >> i) & 1) ? -1 : 1;
-            in_v[i][0] = lane0(lo[i]), in_v[i][1] = lane0(hi[i]);
-            out_v[i][0] = -lane1(hi[i]), out_v[i][1] = -lane1(lo[i]);
+            v.in[i][0] = lane0(lo[i]), v.in[i][1] = lane0(hi[i]);
+            v.out[i][0] = -lane1(hi[i]), v.out[i][1] = -lane1(lo[i]);
             continue;
         }
         // as the frame: its row's enclosures, the exact signs where they hold 0
@@ -471,69 +471,19 @@ template <class T>
         }
         const Interval<double> v_in = obb_enclose(b, i, sden[i] > 0 ? 0 : 1, row, sden[i]),
                                v_out = obb_enclose(b, i, sden[i] > 0 ? 1 : 0, row, sden[i]);
-        in_v[i][0] = v_in.lo, in_v[i][1] = v_in.hi;
-        out_v[i][0] = v_out.lo, out_v[i][1] = v_out.hi;
-    }
-    SlabRef in{-1, 0, double(r.t_min)}, out{-1, 0, double(r.t_max)};
-    double in_lo = r.t_min, in_hi = r.t_min, out_lo = r.t_max, out_hi = r.t_max;
-    for (int i = 0; i < 3; ++i) {
-        if (sden[i] == 0) continue;
-        const SlabRef c{i, sden[i] > 0 ? 0 : 1, 0};
-        const double v_lo = in_v[i][0], v_hi = in_v[i][1];
-        bool greater;
-        if (v_lo > in_hi) {
-            greater = true;
-        } else if (v_hi <= in_lo) {
-            greater = false;
-        } else {
-            RAYPROOF_COUNT_EXACT(went_exact);
-            greater = exact_compare(src, c, in) > 0;
-        }
-        if (greater) in = c, in_lo = v_lo, in_hi = v_hi;
-    }
-    for (int i = 0; i < 3; ++i) {
-        if (sden[i] == 0) continue;
-        const SlabRef c{i, sden[i] > 0 ? 1 : 0, 0};
-        const double v_lo = out_v[i][0], v_hi = out_v[i][1];
-        bool less;
-        if (v_hi < out_lo) {
-            less = true;
-        } else if (v_lo >= out_hi) {
-            less = false;
-        } else {
-            RAYPROOF_COUNT_EXACT(went_exact);
-            less = exact_compare(src, c, out) < 0;
-        }
-        if (less) out = c, out_lo = v_lo, out_hi = v_hi;
-    }
-    int order;  // sign(entry - exit)
-    if (in_hi < out_lo) {
-        order = -1;
-    } else if (in_lo > out_hi) {
-        order = 1;
-    } else {
-        RAYPROOF_COUNT_EXACT(went_exact);
-        order = exact_compare(src, in, out);
-    }
-    Hit<T> h;
-    if (order > 0) {
-        RAYPROOF_COUNT_FLUSH(went_exact);
-        return h;
+        v.in[i][0] = v_in.lo, v.in[i][1] = v_in.hi;
+        v.out[i][0] = v_out.lo, v.out[i][1] = v_out.hi;
     }
     // As ObbFrame::faithful, with the frame's enclosure of the value made for it alone.
-    const auto round = [&](const SlabRef& x) -> T {
+    const auto round = [&](const SlabRef& x, const Interval<double>&) -> T {
         if (const Pinned<T> p = obb_pinned_value(r, b, x.axis, x.side); p.ok) return p.t;
         if (const std::optional<T> t = src.template word_faithful<T>(x.axis, x.side)) return *t;
-        const Interval<double> v = obb_enclose(b, x.axis, x.side, obb_certified_row(r, b, x.axis), sden[x.axis]);
-        if (const std::optional<T> t = faithful_from_enclosure<T>(v)) return *t;
+        const Interval<double> e = obb_enclose(b, x.axis, x.side, obb_certified_row(r, b, x.axis), sden[x.axis]);
+        if (const std::optional<T> t = faithful_from_enclosure<T>(e)) return *t;
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(src, x.axis, x.side);
     };
-    h.verdict = Verdict::hit;
-    h.face = in.axis < 0 ? -1 : 2 * in.axis + in.side;
-    h.t_enter = in.axis < 0 ? r.t_min : round(in);
-    h.t_exit = out.axis < 0 ? r.t_max : (order == 0 ? h.t_enter : round(out));
-    if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;
+    const Hit<T> h = slab_decide(src, sden, v, r.t_min, r.t_max, went_exact, round);
     RAYPROOF_COUNT_FLUSH(went_exact);
     return h;
 }

@@ -66,77 +66,96 @@ template <class T, SlabFrame<T> Frame> Hit<T> slab_conservative(const Frame& f, 
     return h;
 }
 
-template <class T, SlabFrame<T> Frame> Hit<T> slab_certified(const Frame& f, T t_min, T t_max) {
-    RAYPROOF_COUNT_QUERY();
-    bool went_exact = false;
-    Hit<T> h;
-    int sden[3];
-    for (int i = 0; i < 3; ++i) {
-        sden[i] = f.den_sign(i);
-        if (sden[i] == 0 && !f.inside_parallel(i)) return h;
-    }
+// The enclosures of the slab values the certified slab method chooses among: per axis
+// i not parallel to the ray, in[i] = {lo, hi} of the value where the ray enters slab i
+// (side 0 when den(i) > 0) and out[i] of the value where it leaves it.
+struct SlabEnclosures {
+    double in[3][2], out[3][2];
+};
+
+// The certified slab method's choices, shared by slab_certified and the second stages
+// of the straight-line paths (ray_aabb.hpp, ray_obb.hpp), so that all of them decide
+// alike: sden[i] the exact sign of den(i) (0: parallel, with the origin inside the
+// slab; the caller answers a parallel miss), v the enclosures, every comparison they
+// leave decided exactly on src (exact_compare; went_exact is set then), and
+// round(ref, enclosure) the winner's faithful rounding to T.
+template <class T, class Source, class Round>
+Hit<T> slab_decide(const Source& src, const int (&sden)[3], const SlabEnclosures& v, T t_min, T t_max,
+                   bool& went_exact, Round&& round) {
     // Latest entry: t_min first, then the axes in order, replacing only on a strictly
     // greater value, which is the contract's tie rule.
     SlabRef in{-1, 0, double(t_min)}, out{-1, 0, double(t_max)};
-    Interval<double> vin(t_min), vout(t_max);
+    double in_lo = t_min, in_hi = t_min, out_lo = t_max, out_hi = t_max;
     for (int i = 0; i < 3; ++i) {
         if (sden[i] == 0) continue;
         const SlabRef c{i, sden[i] > 0 ? 0 : 1, 0};
-        const Interval<double> v = f.enclose(i, c.side);
+        const double v_lo = v.in[i][0], v_hi = v.in[i][1];
         bool greater;
-        if (v.lo > vin.hi) {
+        if (v_lo > in_hi) {
             greater = true;
-        } else if (v.hi <= vin.lo) {
+        } else if (v_hi <= in_lo) {
             greater = false;
         } else {
             RAYPROOF_COUNT_EXACT(went_exact);
-            greater = exact_compare(f, c, in) > 0;
+            greater = exact_compare(src, c, in) > 0;
         }
-        if (greater) {
-            in = c;
-            vin = v;
-        }
+        if (greater) in = c, in_lo = v_lo, in_hi = v_hi;
     }
     // Earliest exit (ties: any, the value is the same).
     for (int i = 0; i < 3; ++i) {
         if (sden[i] == 0) continue;
         const SlabRef c{i, sden[i] > 0 ? 1 : 0, 0};
-        const Interval<double> v = f.enclose(i, c.side);
+        const double v_lo = v.out[i][0], v_hi = v.out[i][1];
         bool less;
-        if (v.hi < vout.lo) {
+        if (v_hi < out_lo) {
             less = true;
-        } else if (v.lo >= vout.hi) {
+        } else if (v_lo >= out_hi) {
             less = false;
         } else {
             RAYPROOF_COUNT_EXACT(went_exact);
-            less = exact_compare(f, c, out) < 0;
+            less = exact_compare(src, c, out) < 0;
         }
-        if (less) {
-            out = c;
-            vout = v;
-        }
+        if (less) out = c, out_lo = v_lo, out_hi = v_hi;
     }
     // hit iff entry <= exit.
     int order;  // sign(entry - exit)
-    if (vin.hi < vout.lo) {
+    if (in_hi < out_lo) {
         order = -1;
-    } else if (vin.lo > vout.hi) {
+    } else if (in_lo > out_hi) {
         order = 1;
     } else {
         RAYPROOF_COUNT_EXACT(went_exact);
-        order = exact_compare(f, in, out);
+        order = exact_compare(src, in, out);
     }
-    if (order > 0) {
-        RAYPROOF_COUNT_FLUSH(went_exact);
-        return h;
-    }
+    Hit<T> h;
+    if (order > 0) return h;
     h.verdict = Verdict::hit;
     h.face = in.axis < 0 ? -1 : 2 * in.axis + in.side;
-    h.t_enter = in.axis < 0 ? t_min : f.faithful(in.axis, in.side, vin, went_exact);
-    h.t_exit = out.axis < 0 ? t_max : (order == 0 ? h.t_enter : f.faithful(out.axis, out.side, vout, went_exact));
+    h.t_enter = in.axis < 0 ? t_min : round(in, Interval<double>(in_lo, in_hi));
+    h.t_exit = out.axis < 0 ? t_max : (order == 0 ? h.t_enter : round(out, Interval<double>(out_lo, out_hi)));
     // Two different exact values in one gap between adjacent floats may round apart
     // the wrong way; the smaller rounding is faithful for both then.
     if (h.t_enter > h.t_exit) h.t_enter = h.t_exit;
+    return h;
+}
+
+template <class T, SlabFrame<T> Frame> Hit<T> slab_certified(const Frame& f, T t_min, T t_max) {
+    RAYPROOF_COUNT_QUERY();
+    bool went_exact = false;
+    int sden[3];
+    SlabEnclosures v;
+    for (int i = 0; i < 3; ++i) {
+        sden[i] = f.den_sign(i);
+        if (sden[i] == 0) {
+            if (!f.inside_parallel(i)) return Hit<T>{};
+            continue;
+        }
+        const Interval<double> a = f.enclose(i, sden[i] > 0 ? 0 : 1), b = f.enclose(i, sden[i] > 0 ? 1 : 0);
+        v.in[i][0] = a.lo, v.in[i][1] = a.hi, v.out[i][0] = b.lo, v.out[i][1] = b.hi;
+    }
+    const Hit<T> h = slab_decide(f, sden, v, t_min, t_max, went_exact, [&](const SlabRef& x, const Interval<double>& e) {
+        return f.faithful(x.axis, x.side, e, went_exact);
+    });
     RAYPROOF_COUNT_FLUSH(went_exact);
     return h;
 }
