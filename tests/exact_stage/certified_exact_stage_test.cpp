@@ -571,6 +571,34 @@ TYPED_TEST(CertifiedExactStage, AabbStraightLinePathAgreesWithGeneralPath) {
     common_agrees_with_general<T, Aabb<T>>([](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_common(r, b); },
                                            [](const Ray<T>& r, const Aabb<T>& b) { return detail::aabb_certified_general(r, b); });
 }
+// The box's second stage (aabb_certified_stage, over the straight-line path's values and
+// bounds) answers as the general path, bit for bit, on every valid case the
+// straight-line path declines with usable lanes (rays through edges and corners, near
+// ties, winners outside the correction's range), and so does the whole declined path
+// (the stage where the lanes are usable, the general path otherwise) on every valid case.
+TYPED_TEST(CertifiedExactStage, AabbSecondStageAgreesWithGeneralPath) {
+    using T = TypeParam;
+    int staged = 0;
+    on_valid_cases<T, Aabb<T>>("the second stage", [&](const auto& c, const std::string& where, bool& answered) {
+        answered = true;
+        const Hit<T> general = detail::aabb_certified_general(c.ray, c.shape);
+        const auto same = [&](const Hit<T>& h) {
+            return h.verdict == general.verdict && h.face == general.face && same_bits(h.t_enter, general.t_enter) &&
+                   same_bits(h.t_exit, general.t_exit);
+        };
+        const Hit<T> declined = detail::aabb_certified_declined(c.ray, c.shape);
+        ASSERT_TRUE(same(declined)) << where << ": " << c.ray << " vs " << c.shape << "\n  declined path: " << declined
+                                    << "\n  general path: " << general;
+        const detail::AabbLanes L = detail::aabb_lanes(c.ray, c.shape);
+        if (detail::aabb_certified_common(c.ray, c.shape) || detail::lanes::bits(L.usable) != 3) return;
+        ++staged;
+        const Hit<T> stage = detail::aabb_certified_stage(c.ray, c.shape, L.V);
+        ASSERT_TRUE(same(stage)) << where << ": " << c.ray << " vs " << c.shape << "\n  second stage: " << stage
+                                 << "\n  general path: " << general;
+    });
+    EXPECT_GT(staged, 1000) << "the second stage should be exercised";
+}
+
 // A verdict filter (the certified verdict query's straight-line path): wherever it
 // answers, the general path's verdict; it answers nearly every general-position case;
 // and whatever full_answers says the full query's straight-line path answers, it

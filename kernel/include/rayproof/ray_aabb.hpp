@@ -44,19 +44,22 @@
 //            + fl(e - tt·dl))·fl(1/d))) is one of the two floats enclosing t, and t
 //            itself when t is representable (the derivation is at the code). It
 //            answers for |d_i| < 2^1022 (1/d normal), the winners' |d| in [2^-500,
-//            2^500] and |t~| in [2^-400, 2^400] (or t == 0) and hands everything
-//            else, and every comparison its enclosures cannot separate, to the general
-//            path (slab_certified on AabbFrame), whose faithful rounding is the
-//            compensated correction of faithful_slab_value (valid while |s|, |t~| >=
-//            2^-960) and exact arithmetic beyond. Its exact comparisons take the sign
-//            of (p1 - o1)·d2 - (p2 - o2)·d1 from error-free differences and products
-//            without an expansion type (compare_slab_values, detail/exact.hpp: two
-//            exact products compared as rounded pairs where both differences are
-//            exact), at any scale where every product is exact; otherwise, where the
-//            positions and the directions each span at most 199 binades, the same
-//            quotients with positions and directions rescaled by powers of two into the
-//            Expansion type's safe range (AabbScaledQuotients: exact, and every
-//            comparison keeps its sign); only the rest goes to BigDyadic.
+//            2^500] and |t~| in [2^-400, 2^400] (or t == 0). What it leaves on input
+//            whose values it can vouch for goes to a second stage
+//            (aabb_certified_stage): the general path's slab method over the same
+//            values and bounds, with its comparisons and roundings. Everything else
+//            goes to the general path (slab_certified on AabbFrame). Both round
+//            faithfully by the compensated correction of faithful_slab_value (valid
+//            while |s|, |t~| >= 2^-960) and exact arithmetic beyond. Their exact
+//            comparisons take the sign of (p1 - o1)·d2 - (p2 - o2)·d1 from error-free
+//            differences and products without an expansion type (compare_slab_values,
+//            detail/exact.hpp: two exact products compared as rounded pairs where both
+//            differences are exact), at any scale where every product is exact;
+//            otherwise, where the positions and the directions each span at most 199
+//            binades, the same quotients with positions and directions rescaled by
+//            powers of two into the Expansion type's safe range (AabbScaledQuotients:
+//            exact, and every comparison keeps its sign); only the rest goes to
+//            BigDyadic.
 //            For float, every step runs in double: a faithfully rounded double rounded
 //            to nearest float is a faithfully rounded float.
 //            Contraction (detail/eft.hpp): the enclosures are class C1, the products
@@ -275,9 +278,71 @@ private:
     int shift_;
 };
 
-// The slab frame of an axis-aligned box (see detail/slab_certified.hpp): the slab
-// values are (p - o_i)/d_i with p = lo_i (side 0) or hi_i (side 1).
-template <class T> class AabbFrame {
+// The exact side of a box's slab values (p - o_i)/d_i, p = lo_i (side 0) or hi_i (side
+// 1), as a source of exact quotients (detail/certified.hpp): the comparisons at any scale
+// (compare_at_any_scale), the rescaled values where those decline (scaled()), the
+// expansion types beyond, and each value faithfully rounded (faithful_value). The slab
+// frame (AabbFrame) adds the enclosures; the second stage (aabb_certified_stage) takes
+// the straight-line path's instead.
+template <class T> class AabbExact {
+public:
+    AabbExact(const Ray<T>& r, const Aabb<T>& b) : o_(r.origin.data()), d_(r.direction.data()), b_(&b) {}
+
+    template <class E> E num(int i, int side) const { return E(double(plane(i, side))) - E(double(o_[i])); }
+    template <class E> E den(int i) const { return E(double(d_[i])); }
+    // (exact_compare: tried before the scaled() values, which it needs only where one of
+    // its products leaves the exact range.)
+    std::optional<int> compare_at_any_scale(const SlabRef& a, const SlabRef& b) const {
+        return slab_quick_compare(a, b, [&](int i, int side) {
+            return std::array<double, 3>{double(plane(i, side)), double(o_[i]), double(d_[i])};
+        });
+    }
+    // Decided on first use, once per frame (each exact comparison asks).
+    bool safe() const {
+        if (safe_ < 0) {
+            bool s = true;
+            for (int i = 0; i < 3; ++i)
+                s = s && expansion_safe(o_[i]) && expansion_safe(d_[i]) && expansion_safe(b_->lo[i]) &&
+                    expansion_safe(b_->hi[i]);
+            safe_ = s;
+        }
+        return safe_ != 0;
+    }
+    // The same slab values at a scale the Expansion type is safe at, where one exists
+    // (exact_compare's comparisons use it when safe() is false). Made on first use, once
+    // per frame (a query may compare several times).
+    const std::optional<AabbScaledQuotients>& scaled() const {
+        if (!scaled_made_) {
+            scaled_ = AabbScaledQuotients::make(o_, d_, *b_);
+            scaled_made_ = true;
+        }
+        return scaled_;
+    }
+    // Slab value (i, side), d_i != 0, faithfully rounded: the compensated correction
+    // (faithful_slab_value) where it holds, else in exact arithmetic.
+    T faithful_value(int i, int side, bool& went_exact) const {
+        if (const std::optional<T> t = faithful_slab_value<T>(plane(i, side), o_[i], d_[i])) return *t;
+        RAYPROOF_COUNT_EXACT(went_exact);
+        return exact_faithful<T>(*this, i, side);
+    }
+
+protected:
+    T plane(int i, int side) const { return side ? b_->hi[i] : b_->lo[i]; }
+    const T* o_;
+    const T* d_;
+    const Aabb<T>* b_;
+
+private:
+    mutable int safe_ = -1;  // safe(), -1 until asked
+    mutable bool scaled_made_ = false;
+    mutable std::optional<AabbScaledQuotients> scaled_;
+};
+
+// The slab frame of an axis-aligned box (see detail/slab_certified.hpp): the exact side
+// above with an enclosure of every slab value.
+template <class T> class AabbFrame : public AabbExact<T> {
+    using AabbExact<T>::o_, AabbExact<T>::d_, AabbExact<T>::b_, AabbExact<T>::plane;
+
 public:
     AabbFrame(const Ray<T>& r, const Aabb<T>& b) : AabbFrame(r, b, nullptr) {}
     // The reciprocals as the prepared ray decided them: the same values fl(1/d_i).
@@ -294,8 +359,7 @@ private:
     // error and the two roundings of the ends, underflow included. ok_[i][side]: t~ is
     // finite, so the enclosure holds; an overflowed value is enclosed by an
     // outward-rounded division instead (enclose).
-    template <class Rinv>
-    AabbFrame(const Ray<T>& r, const Aabb<T>& b, Rinv rinv) : o_(r.origin.data()), d_(r.direction.data()), b_(&b) {
+    template <class Rinv> AabbFrame(const Ray<T>& r, const Aabb<T>& b, Rinv rinv) : AabbExact<T>(r, b) {
         constexpr double K = 2 * gamma<double>(3), eta = std::numeric_limits<double>::min();
         for (int i = 0; i < 3; ++i) {
             ok_[i][0] = ok_[i][1] = true;
@@ -327,52 +391,13 @@ public:
         const double s = double(plane(i, side)) - double(o_[i]);
         return divide_by_point(Interval<double>(step_down(s), step_up(s)), double(d_[i]));
     }
-    template <class E> E num(int i, int side) const { return E(double(plane(i, side))) - E(double(o_[i])); }
-    template <class E> E den(int i) const { return E(double(d_[i])); }
-    // (exact_compare: tried before the scaled() values, which it needs only where one of
-    // its products leaves the exact range.)
-    std::optional<int> compare_at_any_scale(const SlabRef& a, const SlabRef& b) const {
-        return slab_quick_compare(a, b, [&](int i, int side) {
-            return std::array<double, 3>{double(plane(i, side)), double(o_[i]), double(d_[i])};
-        });
-    }
-    // Decided on first use, once per frame (each exact comparison asks).
-    bool safe() const {
-        if (safe_ < 0) {
-            bool s = true;
-            for (int i = 0; i < 3; ++i)
-                s = s && expansion_safe(o_[i]) && expansion_safe(d_[i]) && expansion_safe(b_->lo[i]) &&
-                    expansion_safe(b_->hi[i]);
-            safe_ = s;
-        }
-        return safe_ != 0;
-    }
-    // The same slab values at a scale the Expansion type is safe at, where one exists
-    // (exact_compare's comparisons use it when safe() is false). Made on first use, once
-    // per frame (a query may compare several times).
-    const std::optional<AabbScaledQuotients>& scaled() const {
-        if (!scaled_made_) {
-            scaled_ = AabbScaledQuotients::make(o_, d_, *b_);
-            scaled_made_ = true;
-        }
-        return scaled_;
-    }
     T faithful(int i, int side, const Interval<double>&, bool& went_exact) const {
-        if (const std::optional<T> t = faithful_slab_value<T>(plane(i, side), o_[i], d_[i])) return *t;
-        RAYPROOF_COUNT_EXACT(went_exact);
-        return exact_faithful<T>(*this, i, side);
+        return this->faithful_value(i, side, went_exact);
     }
 
 private:
-    T plane(int i, int side) const { return side ? b_->hi[i] : b_->lo[i]; }
-    const T* o_;
-    const T* d_;
-    const Aabb<T>* b_;
     double t_[3][2], e_[3][2];
     bool ok_[3][2];
-    mutable int safe_ = -1;  // safe(), -1 until asked
-    mutable bool scaled_made_ = false;
-    mutable std::optional<AabbScaledQuotients> scaled_;
 };
 
 static_assert(SlabFrame<AabbFrame<float>, float> && SlabFrame<AabbFrame<double>, double>);
@@ -533,6 +558,40 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedAabb<T>& p, cons
         return common_or_fallback(aabb_conservative_in_t(ray, p.shape),
                                   [&, &s = p.shape] { return aabb_conservative_declined(ray, s); });
     }
+}
+
+// The certified answer's second stage, for what the straight-line paths (below) leave
+// undecided on usable input (every slab value finite with 1/d normal and finite, lo <= hi
+// on every axis, a valid range: valid input, and no axis parallel): entries or exits
+// whose enclosures overlap (rays through edges and corners, or nearly so), winners
+// outside the correction's range. The general path's slab method (slab_certified: t_min,
+// then the axes in order, an entry replaced only by a strictly greater value and an exit
+// only by a strictly smaller one; then the order of the two) over the straight-line
+// path's own values V[i] = (entry, -exit) and bounds: each value v enclosed by
+// v ∓ (K|v| + eta) (aabb_lanes, where the bound is derived), every comparison they leave
+// decided exactly on the box's exact side (AabbExact), and the winners rounded as
+// AabbFrame::faithful rounds them. Every decision being the exact one and every rounding
+// the same, it answers as the general path does, bit for bit, without building the
+// frame or validating the input again.
+template <class T>
+[[gnu::noinline]] Hit<T> aabb_certified_stage(const Ray<T>& r, const Aabb<T>& b, const lanes::D2 (&V)[3]) {
+    using lanes::lane0, lanes::lane1;
+    constexpr double K = 2 * gamma<double>(3), eta = 0x1p-1022;
+    RAYPROOF_COUNT_QUERY();
+    bool went_exact = false;
+    const AabbExact<T> src(r, b);
+    int sden[3];
+    SlabEnclosures v;
+    for (int i = 0; i < 3; ++i) {
+        sden[i] = r.direction[i] > 0 ? 1 : -1;  // never 0 on usable input
+        const double e = lane0(V[i]), x = -lane1(V[i]), be = K * std::abs(e) + eta, bx = K * std::abs(x) + eta;
+        v.in[i][0] = e - be, v.in[i][1] = e + be, v.out[i][0] = x - bx, v.out[i][1] = x + bx;
+    }
+    const Hit<T> h = slab_decide(src, sden, v, r.t_min, r.t_max, went_exact, [&](const SlabRef& ref, const Interval<double>&) {
+        return src.faithful_value(ref.axis, ref.side, went_exact);
+    });
+    RAYPROOF_COUNT_FLUSH(went_exact);
+    return h;
 }
 
 // The certified answer's common case in straight-line code, the entry problem in lane 0
@@ -828,12 +887,17 @@ template <class T> [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_general(co
     return slab_certified(AabbFrame<T>(r, b), r.t_min, r.t_max);
 }
 
-// What the straight-line paths decline: validated in full (they answer only for valid
-// input, see the validity note above), then the general path.
-// A prepared ray's validity is decided already.
+// What the straight-line paths decline: on usable input with a valid range (see
+// aabb_certified_stage) the second stage, over the lanes computed again (the straight-line
+// path does not keep them: holding them for this rare call slows its common case);
+// otherwise validated in full (the straight-line paths answer only for valid input, see
+// the validity note above), then the general path. A prepared ray's validity is decided
+// already.
 template <class R, class T>
     requires RayOrPrepared<R, T>
 [[gnu::noinline, gnu::cold]] Hit<T> aabb_certified_declined(const R& r, const Aabb<T>& b) {
+    const AabbLanes L = aabb_lanes(r, b);
+    if (int(lanes::bits(L.usable) == 3) & int(valid_range(ray_of(r)))) return aabb_certified_stage(ray_of(r), b, L.V);
     return answer_if_valid(r, b, [&] { return aabb_certified_general(ray_of(r), b); });
 }
 
