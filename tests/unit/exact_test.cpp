@@ -972,6 +972,43 @@ TEST(ExactSlabValues, CompressAndCrossDifferenceAgainstMpq) {
     EXPECT_GT(ties, 1000);
 }
 
+// Two slab values (p - o)/d for the comparison tests: the first from gen (d nonzero),
+// the second either the first with all three numbers scaled by 2^k, |k| <= max_shift
+// (an exact tie), or that tie moved by an ulp in one of them, or drawn from gen too; none
+// where a scaled number fails keep or the scaled d is 0.
+struct SlabValuePair {
+    double p1, o1, d1, p2, o2, d2;
+};
+template <class Gen, class Keep>
+std::optional<SlabValuePair> slab_value_pair(std::mt19937_64& rng, Gen&& gen, int max_shift, Keep&& keep) {
+    const auto nonzero = [&](double prev) {
+        for (;;) {
+            const double d = gen(rng, prev);
+            if (d != 0) return d;
+            prev = 1;
+        }
+    };
+    SlabValuePair v;
+    v.p1 = gen(rng, 1), v.o1 = gen(rng, v.p1), v.d1 = nonzero(v.o1);
+    if (rng() % 2) {
+        const int k = static_cast<int>(rng() % static_cast<unsigned>(2 * max_shift + 1)) - max_shift;
+        v.p2 = std::ldexp(v.p1, k);
+        v.o2 = std::ldexp(v.o1, k);
+        v.d2 = std::ldexp(v.d1, k);
+        double* moved[] = {&v.p2, &v.o2, &v.d2};
+        if (rng() % 2) {
+            double& m = *moved[rng() % 3];
+            m = std::nextafter(m, rng() % 2 ? 1e308 : -1e308);
+        }
+        if (!(keep(v.p2) && keep(v.o2) && keep(v.d2)) || v.d2 == 0) return std::nullopt;
+    } else {
+        v.p2 = gen(rng, v.p1);
+        v.o2 = gen(rng, v.p2);
+        v.d2 = nonzero(v.o2);
+    }
+    return v;
+}
+
 // compare_slab_values and compare_slab_value against GMP on slab values of the safe
 // range, near ties above all: the second value the first scaled by a power of two in
 // both its difference and its denominator (an exact tie), or that tie moved by an ulp
@@ -980,33 +1017,12 @@ TEST(ExactSlabValues, CompressAndCrossDifferenceAgainstMpq) {
 TEST(ExactSlabValues, ComparisonsAgainstMpq) {
     SEED_TRACE();
     auto rng = make_rng();
-    const auto nonzero = [&](double prev) {
-        for (;;) {
-            const double d = safe_interesting(rng, prev);
-            if (d != 0) return d;
-            prev = 1;
-        }
-    };
     int ties = 0, declined = 0;
     for (int it = 0; it < 20000; ++it) {
-        const double p1 = safe_interesting(rng, 1), o1 = safe_interesting(rng, p1), d1 = nonzero(o1);
-        double p2, o2, d2;
-        if (rng() % 2) {
-            const int k = static_cast<int>(rng() % 9) - 4;
-            p2 = std::ldexp(p1, k);
-            o2 = std::ldexp(o1, k);
-            d2 = std::ldexp(d1, k);
-            double* moved[] = {&p2, &o2, &d2};
-            if (rng() % 2) {
-                double& m = *moved[rng() % 3];
-                m = std::nextafter(m, rng() % 2 ? 1e308 : -1e308);
-            }
-            if (!(expansion_safe(p2) && expansion_safe(o2) && expansion_safe(d2)) || d2 == 0) continue;
-        } else {
-            p2 = safe_interesting(rng, p1);
-            o2 = safe_interesting(rng, p2);
-            d2 = nonzero(o2);
-        }
+        const std::optional<SlabValuePair> pair =
+            slab_value_pair(rng, safe_interesting, 4, [](double x) { return expansion_safe(x); });
+        if (!pair) continue;
+        const auto [p1, o1, d1, p2, o2, d2] = *pair;
         SCOPED_TRACE(hex(p1) + " " + hex(o1) + " " + hex(d1) + " vs " + hex(p2) + " " + hex(o2) + " " + hex(d2));
         const mpq_class v1 = (Q(p1) - Q(o1)) / Q(d1), v2 = (Q(p2) - Q(o2)) / Q(d2);
         ties += v1 == v2;
@@ -1037,33 +1053,12 @@ TEST(ExactSlabValues, ComparisonsAgainstMpq) {
 TEST(ExactSlabValues, ComparisonsAtAnyScaleAgainstMpq) {
     SEED_TRACE();
     auto rng = make_rng();
-    const auto nonzero = [&](double prev) {
-        for (;;) {
-            const double d = interesting(rng, prev);
-            if (d != 0) return d;
-            prev = 1;
-        }
-    };
     int ties = 0, with_error_term = 0, unsafe_answered = 0, declined = 0, constants_answered = 0;
     for (int it = 0; it < 40000; ++it) {
-        const double p1 = interesting(rng, 1), o1 = interesting(rng, p1), d1 = nonzero(o1);
-        double p2, o2, d2;
-        if (rng() % 2) {
-            const int k = static_cast<int>(rng() % 1201) - 600;
-            p2 = std::ldexp(p1, k);
-            o2 = std::ldexp(o1, k);
-            d2 = std::ldexp(d1, k);
-            double* moved[] = {&p2, &o2, &d2};
-            if (rng() % 2) {
-                double& m = *moved[rng() % 3];
-                m = std::nextafter(m, rng() % 2 ? 1e308 : -1e308);
-            }
-            if (!(std::isfinite(p2) && std::isfinite(o2) && std::isfinite(d2)) || d2 == 0) continue;
-        } else {
-            p2 = interesting(rng, p1);
-            o2 = interesting(rng, p2);
-            d2 = nonzero(o2);
-        }
+        const std::optional<SlabValuePair> pair =
+            slab_value_pair(rng, interesting, 600, [](double x) { return std::isfinite(x); });
+        if (!pair) continue;
+        const auto [p1, o1, d1, p2, o2, d2] = *pair;
         SCOPED_TRACE(hex(p1) + " " + hex(o1) + " " + hex(d1) + " vs " + hex(p2) + " " + hex(o2) + " " + hex(d2));
         const mpq_class v1 = (Q(p1) - Q(o1)) / Q(d1), v2 = (Q(p2) - Q(o2)) / Q(d2);
         const bool safe = expansion_safe(p1) && expansion_safe(o1) && expansion_safe(d1) && expansion_safe(p2) &&
