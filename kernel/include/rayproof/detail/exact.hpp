@@ -903,9 +903,8 @@ RAYPROOF_ALWAYS_INLINE bool exact_product_taken(double x, double hi) {
 // sign(x - y) for reals x = x.hi + x.lo and y = y.hi + y.lo (exactly) whose hi parts
 // are their roundings to nearest (two_sum's and two_prod's results): rounding is
 // monotone, so x <= y would give x.hi <= y.hi, and x.hi > y.hi proves x > y (likewise
-// <); on equal hi parts x - y = x.lo - y.lo exactly, whose sign the rounded difference
-// keeps (a difference of two doubles rounds to 0 only when it is 0). Two comparisons,
-// no sum.
+// <); on equal hi parts x - y = x.lo - y.lo exactly, whose sign the comparison of the
+// two lo parts gives. Two comparisons, no sum.
 RAYPROOF_ALWAYS_INLINE int compare_rounded_pairs(const Pair& x, const Pair& y) {
     const int hi = int(x.hi > y.hi) - int(x.hi < y.hi), lo = int(x.lo > y.lo) - int(x.lo < y.lo);
     return hi != 0 ? hi : lo;
