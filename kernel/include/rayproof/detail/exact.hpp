@@ -926,11 +926,11 @@ RAYPROOF_ALWAYS_INLINE int compare_rounded_pairs(const Pair& x, const Pair& y) {
 inline std::optional<int> compare_slab_values(double p1, double o1, double d1, double p2, double o2, double d2) {
     const Pair n1 = two_sum(p1, -o1), n2 = two_sum(p2, -o2);
     const Pair a = two_prod(n1.hi, d2), c = two_prod(n2.hi, d1);
-    if (!(exact_product_taken(n1.hi, a.hi) & exact_product_taken(n2.hi, c.hi))) return std::nullopt;
+    if (!(exact_product_taken(n1.hi, a.hi) && exact_product_taken(n2.hi, c.hi))) return std::nullopt;
     const int sign_d = (d1 > 0) == (d2 > 0) ? 1 : -1;
     if (n1.lo == 0 && n2.lo == 0) return compare_rounded_pairs(a, c) * sign_d;
     const Pair b = two_prod(n1.lo, d2), d = two_prod(n2.lo, d1);
-    if (!(exact_product_taken(n1.lo, b.hi) & exact_product_taken(n2.lo, d.hi))) return std::nullopt;
+    if (!(exact_product_taken(n1.lo, b.hi) && exact_product_taken(n2.lo, d.hi))) return std::nullopt;
     const double x[8] = {a.lo, b.lo, -c.lo, -d.lo, a.hi, b.hi, -c.hi, -d.hi};
     return exact_sum_sign(x, 8) * sign_d;
 }
@@ -940,7 +940,7 @@ inline std::optional<int> compare_slab_values(double p1, double o1, double d1, d
 // two_sum overflowed).
 inline std::optional<int> compare_slab_value(double p, double o, double d, double t) {
     const Pair n = two_sum(p, -o), td = two_prod(t, d);
-    if (!(exact_product_taken(t, td.hi) & int(n.lo - n.lo == 0))) return std::nullopt;
+    if (!(exact_product_taken(t, td.hi) && n.lo - n.lo == 0)) return std::nullopt;
     return compare_rounded_pairs(n, td) * (d > 0 ? 1 : -1);
 }
 
