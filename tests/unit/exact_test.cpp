@@ -1089,6 +1089,45 @@ TEST(ExactSlabValues, ComparisonsAtAnyScaleAgainstMpq) {
     EXPECT_GT(constants_answered, 40000) << "comparisons with constants should be exercised";
 }
 
+// unscaled_faithful: a faithful double for q from f, a faithful double for 2^shift·q
+// (a rescaled copy's rounding scaled back). For random normal f (below the largest
+// double: ±max may be a clamp) and q' = 2^shift·q at f or strictly between f and one of
+// its neighbours (a third, two thirds, or nearly all the way), with shifts that put
+// the result in range, in the subnormal range, or beyond the largest double (the
+// boundaries drawn often), every answer is a faithful rounding of q (±max beyond the
+// range, as faithful_quotient answers it), and each route is taken: exact scalings,
+// ±max beyond the range, and declines (inexact scalings, results near the top whose
+// side of the largest double f does not decide).
+TEST(ExactScale, UnscaledFaithfulAgainstMpq) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    std::uniform_int_distribution<int> exponent(-1022, 1022), wide(-1100, 1100), boundary(0, 10);
+    const int edges[] = {1022, 1023, 1024, 1025, -1021, -1022, -1023, -1073, -1074, -1075, -1076};
+    int exact = 0, beyond = 0, declined = 0;
+    for (int it = 0; it < 40000; ++it) {
+        const double m = 1 + std::ldexp(double(rng() >> 12), -52);  // [1, 2)
+        const int e = exponent(rng), k = (rng() & 1) ? wide(rng) : edges[boundary(rng)];
+        const double f = std::ldexp((rng() & 1) ? -m : m, e);
+        const int shift = e - k;  // f·2^-shift about 2^k
+        const double toward = (rng() & 1) ? std::nextafter(f, HUGE_VAL) : std::nextafter(f, -HUGE_VAL);
+        const int third = int(rng() % 4);
+        const mpq_class frac = third == 3 ? mpq_class(1023, 1024) : mpq_class(third, 3);
+        const mpq_class q = times_pow2(Q(f) + frac * (Q(toward) - Q(f)), -shift);
+        SCOPED_TRACE("f = " + hex(f) + ", shift " + std::to_string(shift) + ", q' at " + frac.get_str() + " towards " +
+                     hex(toward));
+        const std::optional<double> r = unscaled_faithful(f, shift);
+        if (!r) {
+            ++declined;
+            continue;
+        }
+        ASSERT_TRUE(faithful(*r, q));
+        (std::abs(*r) == std::numeric_limits<double>::max() ? beyond : exact)++;
+    }
+    EXPECT_GT(exact, 10000) << "exact scalings should be exercised";
+    EXPECT_GT(beyond, 1000) << "results beyond the largest double should be answered";
+    EXPECT_GT(declined, 1000) << "inexact scalings should be declined";
+}
+
 // ================================================================= with_exact
 
 TEST(ExactDispatch, RerunsWithBigDyadicOnOverflow) {

@@ -386,18 +386,16 @@ private:
 
 // num(i, side)/den(i) faithfully rounded to T from q's pinned value (AffineQuotients::
 // pinned), for q the input as given (shift() == 0) or rescaled: a pinned c' is faithful
-// for 2^shift·t and at least 2^-900 in magnitude (pin_quotient), so c'·2^-shift, where
-// that is exact and c' normal, is faithful for t (exact_faithful's argument,
-// detail/certified.hpp); a faithful double rounded to nearest T is a faithful T
-// (faithful_to). None otherwise.
+// for 2^shift·t, and scaled back by unscaled_faithful (detail/exact.hpp) for a
+// rescaled copy, which exists for double input only (float input is always safe); a
+// faithful double rounded to nearest T is a faithful T (faithful_to). None otherwise.
 template <class T, int R> std::optional<T> word_faithful(const AffineQuotients<R>& q, int i, int side) {
     std::optional<double> c = q.pinned(i, side);
     if (!c) return std::nullopt;
     if (q.shift() != 0) {
-        const double a = std::abs(*c);
-        if (!(a >= std::numeric_limits<double>::min() && a < std::numeric_limits<double>::max() &&
-              scale_exactly(*c, -q.shift(), *c)))
-            return std::nullopt;
+        if constexpr (!std::is_same_v<T, double>) return std::nullopt;
+        c = unscaled_faithful(*c, q.shift());
+        if (!c) return std::nullopt;
     }
     return faithful_to<T>(*c);
 }

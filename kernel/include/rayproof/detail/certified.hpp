@@ -196,10 +196,7 @@ template <ExactQuotients Source> int exact_compare(const Source& f, const SlabRe
 
 // num/den faithfully rounded to T, in exact arithmetic. For double, a source that is
 // not safe() but offers scaled() (exact_compare) rounds there, where the Expansion type
-// is exact: f' faithful for 2^shift·q and a normal double (neither clamped to ±max nor
-// flushed to 0) lies with 2^shift·q between two neighbours, so f'·2^-shift, where it
-// is exact, lies with q between two doubles no farther apart than its own neighbours
-// (the same ones, or in the subnormal range coarser): faithful for q.
+// is exact, and scales back (unscaled_faithful).
 template <class T, ExactQuotients Source> T exact_faithful(const Source& f, int axis, int side) {
     // A source may offer quick_faithful<T>(axis, side): a faithful rounding without an
     // expansion type (AffineQuotients), or none where it cannot find one exactly.
@@ -207,14 +204,9 @@ template <class T, ExactQuotients Source> T exact_faithful(const Source& f, int 
         if (const std::optional<T> q = f.template quick_faithful<T>(axis, side)) return *q;
     if constexpr (std::is_same_v<T, double> && requires { f.scaled(); })
         if (!f.safe())
-            if (const auto& s = f.scaled()) {
-                const double scaled = exact_faithful<double>(*s, axis, side);
-                const double a = std::abs(scaled);
-                double q;
-                if (a >= std::numeric_limits<double>::min() && a < std::numeric_limits<double>::max() &&
-                    scale_exactly(scaled, -s->shift(), q))
-                    return q;
-            }
+            if (const auto& s = f.scaled())
+                if (const std::optional<double> q = unscaled_faithful(exact_faithful<double>(*s, axis, side), s->shift()))
+                    return *q;
     const std::optional<T> q = with_exact(f.safe(), [&](auto tag) -> std::optional<T> {
         using E = typename decltype(tag)::type;
         const E n = f.template num<E>(axis, side), d = f.template den<E>(axis);

@@ -639,6 +639,22 @@ inline bool scale_exactly(double c, int k, double& out) {
     return std::isfinite(out) && std::ldexp(out, -k) == c;
 }
 
+// A faithful double for q from f', a faithful double for 2^shift·q, or none. f' normal
+// (neither clamped to ±max nor flushed to 0) lies with 2^shift·q between two neighbours,
+// so f'·2^-shift, where it is exact, lies with q between two doubles no farther apart
+// than its own neighbours (the same ones, or in the subnormal range coarser): faithful
+// for q. Where it overflows: 2^shift·|q| > pred(|f'|) >= 2^e·(1 - 2^-53), e the binary
+// exponent of f', so e - shift >= 1024 puts |q| above (1 - 2^-53)·2^1024, the largest
+// double, whose faithful rounding is then ±max with f''s sign, as faithful_quotient
+// answers it.
+inline std::optional<double> unscaled_faithful(double f, int shift) {
+    const double a = std::abs(f);
+    if (!(a >= std::numeric_limits<double>::min() && a < std::numeric_limits<double>::max())) return std::nullopt;
+    if (double q; scale_exactly(f, -shift, q)) return q;
+    if (binary_exponent(a) - shift >= 1024) return std::copysign(std::numeric_limits<double>::max(), f);
+    return std::nullopt;
+}
+
 // ===================================================================================
 // 5. The dispatcher and the exact decisions
 // ===================================================================================
