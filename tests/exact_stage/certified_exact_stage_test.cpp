@@ -297,10 +297,13 @@ TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
 
 // The routes an affine frame's exact side (AffineSource: the Obb's frame, the plane's
 // crossing) took over a test's cases: its sums on the given input, safe for expansions
-// (quick); the rescaled input (scaled, which must itself be safe); and a quick comparison
-// deciding on input not safe (checked: every product checked, the sums scaled apart).
+// (quick); the rescaled input (scaled, which must itself be safe); a quick comparison
+// deciding on input not safe (checked: every product checked, the sums scaled apart);
+// and the balanced copy of input too wide to rescale (AffineQuotients::balanced), whose
+// own comparisons and roundings are checked here against the bare quotients
+// (balanced_agrees), since the frame's answers may also come from the given input.
 struct AffineRoutes {
-    int quick = 0, scaled = 0, checked = 0;
+    int quick = 0, scaled = 0, checked = 0, balanced = 0, balanced_decided = 0, balanced_rounded = 0;
     template <class F> ::testing::AssertionResult count(const F& f) {
         quick += f.safe();
         if (f.safe() || !f.scaled()) return ::testing::AssertionSuccess();
@@ -308,12 +311,55 @@ struct AffineRoutes {
         if (f.scaled()->safe()) return ::testing::AssertionSuccess();
         return ::testing::AssertionFailure() << "the rescaled input is not safe for expansions";
     }
+    // Where f's input is not safe and has no rescaled copy: the balanced copy of its
+    // values v, where it exists, compares every pair of refs (constants scaled by its
+    // shift, where exactly) as the bare quotients do wherever it answers, and rounds each
+    // of the values (axis, side) faithfully (quick_faithful, scaled back by
+    // unscaled_faithful) wherever it answers.
+    template <int R, class F, class Bare>
+    ::testing::AssertionResult balanced_agrees(const F& f, const Bare& bare, const detail::AffineValues<R>& v,
+                                               const std::vector<detail::SlabRef>& refs,
+                                               const std::vector<std::pair<int, int>>& values) {
+        if (f.safe() || f.scaled()) return ::testing::AssertionSuccess();
+        const std::optional<detail::AffineQuotients<R>> w = detail::AffineQuotients<R>::balanced(v);
+        if (!w) return ::testing::AssertionSuccess();
+        ++balanced;
+        for (const auto& a : refs)
+            for (const auto& b : refs) {
+                if (a.axis < 0 && (b.axis < 0 || std::isinf(a.c))) continue;
+                if (b.axis < 0 && std::isinf(b.c)) continue;
+                detail::SlabRef wa = a, wb = b;
+                if ((a.axis < 0 && !detail::scale_exactly(a.c, w->shift(), wa.c)) ||
+                    (b.axis < 0 && !detail::scale_exactly(b.c, w->shift(), wb.c)))
+                    continue;
+                const std::optional<int> q = w->quick_compare(wa, wb);
+                if (!q) continue;
+                ++balanced_decided;
+                const int s = detail::exact_compare(bare, a, b);
+                if (*q != s)
+                    return ::testing::AssertionFailure() << "the balanced copy (shift " << w->shift() << ") compares refs ("
+                                                         << a.axis << ", " << a.side << ", " << a.c << ") and (" << b.axis
+                                                         << ", " << b.side << ", " << b.c << ") as " << *q << ", not " << s;
+            }
+        for (const auto& [i, side] : values) {
+            const std::optional<double> g = w->template quick_faithful<double>(i, side);
+            const std::optional<double> t = g ? detail::unscaled_faithful(*g, w->shift()) : std::nullopt;
+            if (!t) continue;
+            ++balanced_rounded;
+            if (::testing::AssertionResult r = faithful_by(bare, {i, side, 0}, *t); !r)
+                return r << " (the balanced copy's rounding of value (" << i << ", " << side << "), shift " << w->shift()
+                         << ")";
+        }
+        return ::testing::AssertionSuccess();
+    }
     // Each route taken often enough to be tested (for double: every float is safe).
-    template <class T> void expect_exercised(int checked_at_least) const {
+    template <class T> void expect_exercised(int checked_at_least, int balanced_at_least, int rounded_at_least) const {
         EXPECT_GT(quick, 1000) << "the quick decisions should be exercised";
         if constexpr (std::is_same_v<T, double>) {
             EXPECT_GT(scaled, 100) << "the scaled decisions should be exercised";
             EXPECT_GT(checked, checked_at_least) << "the checked quick comparisons (input not safe) should decide";
+            EXPECT_GT(balanced_decided, balanced_at_least) << "the balanced copy's comparisons should decide";
+            EXPECT_GT(balanced_rounded, rounded_at_least) << "the balanced copy's roundings should answer";
         }
     }
 };
@@ -384,8 +430,9 @@ TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
             ASSERT_TRUE(faithful_by(bare, {i, side, 0}, detail::exact_faithful<T>(f, i, side)))
                 << what << "\n  slab value (" << i << ", " << side << ")";
         }
+        ASSERT_TRUE(routes.balanced_agrees(f, bare, detail::obb_values(c.ray, c.shape), refs, values)) << what;
     });
-    routes.expect_exercised<T>(100);
+    routes.expect_exercised<T>(100, 100000, 2000);
 }
 
 // The plane's exact decisions through its crossing, which takes them from fixed-size
@@ -436,8 +483,10 @@ TYPED_TEST(CertifiedExactStage, PlaneCrossingDecidesAsTheBareQuotient) {
         }
         routes.checked += checked;
         ASSERT_TRUE(faithful_by(bare, t, detail::exact_faithful<T>(x, 0, 0))) << what;
+        refs.push_back(t);
+        ASSERT_TRUE(routes.balanced_agrees(x, bare, detail::plane_values(c.ray, c.shape), refs, {{0, 0}})) << what;
     });
-    routes.expect_exercised<T>(20);
+    routes.expect_exercised<T>(20, 3000, 200);
 }
 
 // The polyhedron's exact decisions through its source (PolySource), which takes them

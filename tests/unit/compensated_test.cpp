@@ -272,12 +272,92 @@ TEST(AffineSpans, AreTheGroupsExponentSpans) {
         } else {
             ++unscalable;
         }
+        const std::optional<AffineShifts> got_b = spans.balanced_shifts(),
+                                          want_b = balanced_affine_shifts(positions, rows, halves, directions);
+        ASSERT_EQ(got_b.has_value(), want_b.has_value()) << what();
+        if (want_b) {
+            ASSERT_EQ(got_b->sp, want_b->sp) << what();
+            ASSERT_EQ(got_b->sa, want_b->sa) << what();
+            ASSERT_EQ(got_b->sd, want_b->sd) << what();
+        }
         safe += all_safe;
     }
     // Every outcome reached: safe input, input scaled into the range, input no scaling fits.
     EXPECT_GT(safe, 1000);
     EXPECT_GT(shifted, 5000);
     EXPECT_GT(unscalable, 10000);
+}
+
+// AffineQuotients::balanced (affine_quotients.hpp: the copy for input too wide to
+// rescale, each group's largest magnitude brought to [1, 2)): wherever it exists, every
+// quotient num(i, side)/den(i) of it is the given one times 2^shift() exactly, with the
+// signs of num and den unchanged (so every value was scaled exactly); on random finite
+// input whose groups lie around random centres within up to 2^±600 (so that most are
+// too wide for rescaled()), subnormals and zeros included, of one row (a plane's
+// crossing) or three (a box's slabs).
+template <int R> void balanced_scales_exactly(std::mt19937_64& rng, int& made, int& too_wide) {
+    const auto value = [&](int centre, int width) {
+        switch (rng() % 16) {
+            case 0: return (rng() & 1) ? -0.0 : 0.0;
+            case 1: return std::ldexp(double(1 + rng() % 1000), -1074);  // subnormal
+            default: {
+                const int e = std::clamp(centre + int(rng() % std::uint64_t(2 * width + 1)) - width, -1074, 1000);
+                return std::ldexp(random_double(rng, 2), e);
+            }
+        }
+    };
+    const auto mul2 = [](mpq_class v, int e) {
+        if (e >= 0)
+            mpq_mul_2exp(v.get_mpq_t(), v.get_mpq_t(), static_cast<mp_bitcnt_t>(e));
+        else
+            mpq_div_2exp(v.get_mpq_t(), v.get_mpq_t(), static_cast<mp_bitcnt_t>(-e));
+        return v;
+    };
+    for (int it = 0; it < 20000; ++it) {
+        AffineValues<R> v;
+        const auto group = [&] { return std::pair{int(rng() % 2001) - 1000, int(rng() % 601)}; };
+        const auto [cp, wp] = group();
+        const auto [ca, wa] = group();
+        const auto [ch, wh] = group();
+        const auto [cd, wd] = group();
+        for (int j = 0; j < 3; ++j) {
+            v.o[j] = value(cp, wp);
+            v.c[j] = value(cp, wp);
+            v.d[j] = value(cd, wd);
+            for (int i = 0; i < R; ++i) v.a[i][j] = value(ca, wa);
+        }
+        for (int i = 0; i < R; ++i) v.h[i] = value(ch, wh);
+        const std::optional<AffineQuotients<R>> w = AffineQuotients<R>::balanced(v);
+        if (!w) continue;
+        ++made;
+        too_wide += !AffineQuotients<R>::rescaled(v);
+        const AffineQuotients<R> given(v, false);
+        const auto what = [&] {
+            std::ostringstream os;
+            os << std::hexfloat << "case " << it << ", shift " << w->shift() << ": o c d";
+            for (int j = 0; j < 3; ++j) os << " (" << v.o[j] << ", " << v.c[j] << ", " << v.d[j] << ")";
+            for (int i = 0; i < R; ++i) os << " row " << v.a[i][0] << " " << v.a[i][1] << " " << v.a[i][2] << " h " << v.h[i];
+            return os.str();
+        };
+        for (int i = 0; i < R; ++i) {
+            const mpq_class d = given.template den<mpq_class>(i), wd_ = w->template den<mpq_class>(i);
+            ASSERT_EQ(sgn(wd_), sgn(d)) << what();
+            for (int side = 0; side < 2; ++side) {
+                const mpq_class n = given.template num<mpq_class>(i, side), wn = w->template num<mpq_class>(i, side);
+                ASSERT_EQ(sgn(wn), sgn(n)) << what();
+                ASSERT_TRUE(wn * d == mul2(n * wd_, w->shift())) << what() << ": value (" << i << ", " << side << ")";
+            }
+        }
+    }
+}
+TEST(AffineQuotients, BalancedCopyScalesExactly) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    int made = 0, too_wide = 0;
+    balanced_scales_exactly<1>(rng, made, too_wide);
+    balanced_scales_exactly<3>(rng, made, too_wide);
+    EXPECT_GT(made, 5000) << "balanced copies should be made";
+    EXPECT_GT(too_wide, 2000) << "input too wide to rescale should be among them";
 }
 
 // Fine sums (compensated.hpp's word_compare): N and D of P products each, every input 0

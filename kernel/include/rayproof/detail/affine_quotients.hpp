@@ -51,6 +51,27 @@ inline std::optional<AffineShifts> affine_shifts(const ExponentSpan& positions, 
     const int sum = std::clamp(0, lo, hi), sp = std::max(p.lo, sum - a.hi);
     return AffineShifts{sp, sum - sp, *sd};
 }
+// Shifts for input too wide for affine_shifts (some group spans more than 199 binades),
+// for the checked sums alone (AffineQuotients::balanced): each group's largest magnitude
+// brought to [1, 2) (sa = -top(rows), sd = -top(directions)), and sp = -top(positions),
+// lowered where the halves need it so that the largest h_i·2^(sp + sa) is below 2 too. An
+// exact product's checks (exact_product: the two last bits' exponents, the two binary
+// exponents) then see each group's exponents relative to its largest, not the input's
+// absolute ones. None where a scaled value would not be a normal double (every scaled
+// value of a group lies in [2^(lo - top), 2)) or a shift leaves times_pow2's range; an
+// empty group (zeros only) takes shift 0 where its own top decides it.
+inline std::optional<AffineShifts> balanced_affine_shifts(const ExponentSpan& positions, const ExponentSpan& rows,
+                                                          const ExponentSpan& halves, const ExponentSpan& directions) {
+    const auto empty = [](const ExponentSpan& e) { return e.hi < e.lo; };
+    const int sa = empty(rows) ? 0 : -rows.hi, sd = empty(directions) ? 0 : -directions.hi;
+    int sp = empty(positions) ? 0 : -positions.hi;
+    if (!empty(halves)) sp = empty(positions) ? -halves.hi - sa : std::min(sp, -halves.hi - sa);
+    const auto fits = [&](const ExponentSpan& e, int s) {
+        return s >= -2044 && s <= 2046 && (empty(e) || e.lo + s >= -1022);
+    };
+    if (!(fits(positions, sp) && fits(rows, sa) && fits(halves, sp + sa) && fits(directions, sd))) return std::nullopt;
+    return AffineShifts{sp, sa, sd};
+}
 
 // The four groups of an affine input (positions, rows, halves, directions) gathered in
 // one pass, two values at a time: a position beside a direction, a row's first two
@@ -73,13 +94,8 @@ public:
         return bits((ray_.top <= u) & (ray_.bottom >= l) & (pair_.top <= u) & (pair_.bottom >= l) &
                     (last_.top <= u) & (last_.bottom >= l)) == 3;
     }
-    std::optional<AffineShifts> shifts() const {
-        using namespace lanes;
-        const double rows_top = std::max({lane0(pair_.top), lane1(pair_.top), lane0(last_.top)}),
-                     rows_bottom = std::min({lane0(pair_.bottom), lane1(pair_.bottom), lane0(last_.bottom)});
-        return affine_shifts(span(lane0(ray_.top), lane0(ray_.bottom)), span(rows_top, rows_bottom),
-                             span(lane1(last_.top), lane1(last_.bottom)), span(lane1(ray_.top), lane1(ray_.bottom)));
-    }
+    std::optional<AffineShifts> shifts() const { return with_spans(affine_shifts); }
+    std::optional<AffineShifts> balanced_shifts() const { return with_spans(balanced_affine_shifts); }
 
 private:
     struct Ends {
@@ -91,6 +107,14 @@ private:
                  m = select(a <= splat(std::numeric_limits<double>::max()), a, inf);
         e.top = max(e.top, m);
         e.bottom = min(e.bottom, select(m == splat(0.0), inf, m));
+    }
+    // f(positions, rows, halves, directions) over the groups' spans
+    template <class F> std::optional<AffineShifts> with_spans(F&& f) const {
+        using namespace lanes;
+        const double rows_top = std::max({lane0(pair_.top), lane1(pair_.top), lane0(last_.top)}),
+                     rows_bottom = std::min({lane0(pair_.bottom), lane1(pair_.bottom), lane0(last_.bottom)});
+        return f(span(lane0(ray_.top), lane0(ray_.bottom)), span(rows_top, rows_bottom),
+                 span(lane1(last_.top), lane1(last_.bottom)), span(lane1(ray_.top), lane1(ray_.bottom)));
     }
     static ExponentSpan span(double top, double bottom) {
         ExponentSpan e;
@@ -189,23 +213,19 @@ public:
     // The input rescaled as above with every scaled value in [2^-100, 2^100] or 0, where
     // such shifts exist (affine_shifts); none otherwise.
     static std::optional<AffineQuotients> rescaled(const AffineValues<R>& v) {
-        AffineSpans spans;
-        for (int j = 0; j < 3; ++j) {
-            spans.ray(v.o[j], v.d[j]);
-            spans.ray(v.c[j], v.d[j]);
-        }
-        for (int i = 0; i < R; ++i) spans.row(v.a[i][0], v.a[i][1], v.a[i][2], v.h[i]);
-        const std::optional<AffineShifts> s = spans.shifts();
+        const std::optional<AffineShifts> s = spans_of(v).shifts();
         if (!s) return std::nullopt;
-        AffineValues<R> w = v;
-        for (int j = 0; j < 3; ++j) {
-            w.o[j] = times_pow2(v.o[j], s->sp);
-            w.c[j] = times_pow2(v.c[j], s->sp);
-            w.d[j] = times_pow2(v.d[j], s->sd);
-            for (int i = 0; i < R; ++i) w.a[i][j] = times_pow2(v.a[i][j], s->sa);
-        }
-        for (int i = 0; i < R; ++i) w.h[i] = times_pow2(v.h[i], s->sp + s->sa);
-        return AffineQuotients(w, s->sp - s->sd);
+        return AffineQuotients(shifted(v, *s), s->sp - s->sd, true);
+    }
+    // The input rescaled group by group (balanced_affine_shifts) where rescaled() finds
+    // no shifts: not safe() (its checked sums and products decide what they can, the
+    // exact types the rest), every scaled value a normal double or 0, so that the scaling
+    // is exact and changes no sign; none where such shifts do not exist.
+    static std::optional<AffineQuotients> balanced(const AffineValues<R>& v) {
+        const std::optional<AffineShifts> s = spans_of(v).balanced_shifts();
+        if (!s) return std::nullopt;
+        const AffineValues<R> w = shifted(v, *s);
+        return AffineQuotients(w, s->sp - s->sd, AffineQuotients(w, false).safe());
     }
     int shift() const { return shift_; }
     bool safe() const { return safe_; }
@@ -325,8 +345,29 @@ public:
     }
 
 private:
-    // The rescaled input: every value 0 or in [2^-100, 2^100], safe by construction.
-    AffineQuotients(const AffineValues<R>& v, int shift) : v_(v), shift_(shift), safe_(true) {}
+    // A rescaled input (rescaled(): every value 0 or in [2^-100, 2^100], safe by
+    // construction; balanced(): as its values are).
+    AffineQuotients(const AffineValues<R>& v, int shift, bool safe) : v_(v), shift_(shift), safe_(safe) {}
+    static AffineSpans spans_of(const AffineValues<R>& v) {
+        AffineSpans spans;
+        for (int j = 0; j < 3; ++j) {
+            spans.ray(v.o[j], v.d[j]);
+            spans.ray(v.c[j], v.d[j]);
+        }
+        for (int i = 0; i < R; ++i) spans.row(v.a[i][0], v.a[i][1], v.a[i][2], v.h[i]);
+        return spans;
+    }
+    static AffineValues<R> shifted(const AffineValues<R>& v, const AffineShifts& s) {
+        AffineValues<R> w = v;
+        for (int j = 0; j < 3; ++j) {
+            w.o[j] = times_pow2(v.o[j], s.sp);
+            w.c[j] = times_pow2(v.c[j], s.sp);
+            w.d[j] = times_pow2(v.d[j], s.sd);
+            for (int i = 0; i < R; ++i) w.a[i][j] = times_pow2(v.a[i][j], s.sa);
+        }
+        for (int i = 0; i < R; ++i) w.h[i] = times_pow2(v.h[i], s.sp + s.sa);
+        return w;
+    }
     // The double-word tier, first in quick_compare, num_sign, den_sign and quick_faithful
     // on safe() input: num(i, side) and den(i) as affine_row_sums makes them (so that on
     // the box's input as given they are ray_obb.hpp's obb_slab_sums bit for bit), fine
@@ -411,8 +452,24 @@ public:
     template <class E> E num(int i, int side) const { return given().template num<E>(i, side); }
     template <class E> E den(int i) const { return given().template den<E>(i); }
     bool safe() const { return given().safe(); }
-    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const { return given().quick_compare(a, b); }
+    // On the balanced copy first where there is one (its constants scaled alike, where
+    // that is exact), else on the input as given.
+    std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const {
+        if (const AffineQuotients<R>* w = wide()) {
+            SlabRef wa = a, wb = b;
+            if ((a.axis >= 0 || scale_exactly(a.c, w->shift(), wa.c)) &&
+                (b.axis >= 0 || scale_exactly(b.c, w->shift(), wb.c)))
+                if (const std::optional<int> s = w->quick_compare(wa, wb)) return s;
+        }
+        return given().quick_compare(a, b);
+    }
+    // For double, on the balanced copy first where there is one, scaled back
+    // (unscaled_faithful, detail/exact.hpp). Float input is always safe().
     template <class U> std::optional<U> quick_faithful(int i, int side) const {
+        if constexpr (std::is_same_v<U, double>)
+            if (const AffineQuotients<R>* w = wide())
+                if (const std::optional<double> f = w->template quick_faithful<double>(i, side))
+                    if (const std::optional<double> q = unscaled_faithful(*f, w->shift())) return *q;
         return given().template quick_faithful<U>(i, side);
     }
     // word_faithful on the input as given where it is safe, else on the rescaled one.
@@ -451,15 +508,26 @@ private:
     template <class Decide> auto from_sums(Decide&& decide) const -> decltype(decide(std::declval<const AffineQuotients<R>&>())) {
         if (auto x = decide(given())) return x;
         if (!safe() && scaled()) return decide(*scaled());
+        if (const AffineQuotients<R>* w = wide()) return decide(*w);
         return std::nullopt;
+    }
+    // The balanced copy (AffineQuotients::balanced) of input that is not safe() and has
+    // no rescaled one, made on first use; null where there is none.
+    const AffineQuotients<R>* wide() const {
+        if (safe() || scaled()) return nullptr;
+        if (!balanced_made_) {
+            balanced_made_ = true;
+            balanced_ = AffineQuotients<R>::balanced(values());
+        }
+        return balanced_ ? &*balanced_ : nullptr;
     }
     const AffineQuotients<R>& given() const {
         if (!given_) given_.emplace(values(), floats_);
         return *given_;
     }
     AffineValues<R> values() const { return static_cast<const Frame&>(*this).affine_values(); }
-    mutable std::optional<AffineQuotients<R>> given_, scaled_;
-    mutable bool scaled_made_ = false;
+    mutable std::optional<AffineQuotients<R>> given_, scaled_, balanced_;
+    mutable bool scaled_made_ = false, balanced_made_ = false;
     bool floats_;
 };
 
