@@ -219,6 +219,24 @@ private:
     const Obb<T>* b_;
 };
 
+// Slab value (i, side) faithfully rounded from the straight-line steps and the
+// double-word sums, where they vouch for it: obb_pinned_value, then word_faithful on the
+// box's exact side (src: the frame's or the second stage's), the two first steps of
+// ObbFrame::faithful and of obb_certified_stage's rounding. Where src is safe() (every
+// float input; double input in [2^-100, 2^100] or 0), word_faithful pins the input as
+// given from the same sums bit for bit (affine_row_sums, as obb_slab_sums; in range for
+// quotient_sums, so both ok alike), so a pin that failed would fail again: there the
+// pin is taken from src's sums alone, which its comparisons have mostly made already.
+// The same answers as the two steps in turn, for either caller.
+template <class T, class Source>
+std::optional<T> obb_word_rounding(const Ray<T>& r, const Obb<T>& b, const Source& src, int i, int side) {
+    if constexpr (std::is_same_v<T, float>)
+        if (const Pinned<float> f = obb_nearest_float(r, b, i, side); f.ok) return f.t;
+    if (!src.safe())
+        if (const PinnedQuotient x = pin_quotient(obb_slab_sums(r, b, i, side)); x.pinned) return faithful_to<T>(x.c);
+    return src.template word_faithful<T>(i, side);
+}
+
 // The slab frame of an oriented box: o'_i = (o - c)·a_i, d'_i = d·a_i, slab
 // [-h_i, h_i]; value (±h_i - o'_i)/d'_i. Its exact side (num, den, safe, quick_compare,
 // quick_faithful, scaled) is AffineSource's, on the slab values as ObbQuotients.
@@ -273,11 +291,11 @@ public:
     // paths answer alike bit for bit): obb_pinned_value (for float by obb_nearest_float
     // first, then by pin_quotient: the faithful double rounded to nearest), then
     // word_faithful (the same pin on the input as given where it is safe for the
-    // double-word comparisons, else on the rescaled one) as obb_certified_stage does;
-    // next from the interval when it pins one float, else exactly.
+    // double-word comparisons, else on the rescaled one), the two as obb_word_rounding
+    // takes them, as obb_certified_stage does; next from the interval when it pins one
+    // float, else exactly.
     T faithful(int i, int side, const Interval<double>& v, bool& went_exact) const {
-        if (const Pinned<T> x = obb_pinned_value(*r_, *b_, i, side); x.ok) return x.t;
-        if (const std::optional<T> t = this->template word_faithful<T>(i, side)) return *t;
+        if (const std::optional<T> t = obb_word_rounding(*r_, *b_, *this, i, side)) return *t;
         if (const std::optional<T> t = faithful_from_enclosure<T>(v)) return *t;
         RAYPROOF_COUNT_EXACT(went_exact);
         return exact_faithful<T>(*this, i, side);
@@ -439,8 +457,8 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedObb<T>& p, conse
 // place in a parallel slab decided as the frame decides them. Every comparison the
 // enclosures leave is decided exactly (exact_compare on the box's exact side,
 // ObbExact: the double-word pairs, then the exact sums, then the exact types), and the
-// winners are rounded as ObbFrame::faithful rounds them (obb_pinned_value,
-// word_faithful, the frame's enclosure of the value, exact_faithful). Every decision
+// winners are rounded as ObbFrame::faithful rounds them (obb_word_rounding, the
+// frame's enclosure of the value, exact_faithful). Every decision
 // being the exact one and every rounding the same, it answers as the general path does,
 // bit for bit, without building the frame's six enclosures where the straight-line
 // path's hold.
@@ -476,8 +494,7 @@ template <class T>
     }
     // As ObbFrame::faithful, with the frame's enclosure of the value made for it alone.
     const auto round = [&](const SlabRef& x, const Interval<double>&) -> T {
-        if (const Pinned<T> p = obb_pinned_value(r, b, x.axis, x.side); p.ok) return p.t;
-        if (const std::optional<T> t = src.template word_faithful<T>(x.axis, x.side)) return *t;
+        if (const std::optional<T> t = obb_word_rounding(r, b, src, x.axis, x.side)) return *t;
         const Interval<double> e = obb_enclose(b, x.axis, x.side, obb_certified_row(r, b, x.axis), sden[x.axis]);
         if (const std::optional<T> t = faithful_from_enclosure<T>(e)) return *t;
         RAYPROOF_COUNT_EXACT(went_exact);
