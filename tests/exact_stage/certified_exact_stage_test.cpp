@@ -14,7 +14,9 @@
 // which check validity themselves decline every invalid variant of valid cases. The
 // exact stage's faster routes are checked against its generic one: the box's slab
 // values compared without the Expansion type, the oriented box's, the plane's and the
-// polyhedron's comparisons from double-word pairs and fixed-size sums, the sphere's
+// polyhedron's comparisons from double-word pairs and fixed-size sums (the box's and the
+// plane's also from exact rows and from a balanced copy of input too wide to rescale,
+// with their roundings), the sphere's
 // fixed-size sums (the
 // discriminant's sign and the vertex) against the expansions, its tangent shortcut
 // against the general path, and a touching point answered at both ends by the float
@@ -299,11 +301,14 @@ TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
 // crossing) took over a test's cases: its sums on the given input, safe for expansions
 // (quick); the rescaled input (scaled, which must itself be safe); a quick comparison
 // deciding on input not safe (checked: every product checked, the sums scaled apart);
-// and the balanced copy of input too wide to rescale (AffineQuotients::balanced), whose
+// the balanced copy of input too wide to rescale (AffineQuotients::balanced), whose
 // own comparisons and roundings are checked here against the bare quotients
-// (balanced_agrees), since the frame's answers may also come from the given input.
+// (balanced_agrees), since the frame's answers may also come from the given input; and
+// the roundings word_faithful answered (from the pairs, or from an exact row); and the
+// comparisons the exact rows decided (compare_at_any_scale).
 struct AffineRoutes {
-    int quick = 0, scaled = 0, checked = 0, balanced = 0, balanced_decided = 0, balanced_rounded = 0;
+    int quick = 0, scaled = 0, checked = 0, balanced = 0, balanced_decided = 0, balanced_rounded = 0, word_rounded = 0,
+        exact_rows = 0;
     template <class F> ::testing::AssertionResult count(const F& f) {
         quick += f.safe();
         if (f.safe() || !f.scaled()) return ::testing::AssertionSuccess();
@@ -355,6 +360,8 @@ struct AffineRoutes {
     // Each route taken often enough to be tested (for double: every float is safe).
     template <class T> void expect_exercised(int checked_at_least, int balanced_at_least, int rounded_at_least) const {
         EXPECT_GT(quick, 1000) << "the quick decisions should be exercised";
+        EXPECT_GT(word_rounded, 1000) << "the roundings from the pairs and the exact rows should answer";
+        EXPECT_GT(exact_rows, 1000) << "the comparisons from the exact rows should decide";
         if constexpr (std::is_same_v<T, double>) {
             EXPECT_GT(scaled, 100) << "the scaled decisions should be exercised";
             EXPECT_GT(checked, checked_at_least) << "the checked quick comparisons (input not safe) should decide";
@@ -375,7 +382,9 @@ struct AffineRoutes {
 // ways (and quick_compare's where it answers, on input not safe too, its checked
 // route); and each slab value's exact_faithful t is a faithful rounding by the bare
 // comparisons (the exact value, or strictly between t and its neighbour on the side
-// the sign gives). The rescaled input must lie in the safe range, and both routes must
+// the sign gives), and so is word_faithful's wherever it answers (from the pairs, or
+// from an exact row: affine_exact_row, which also decides the comparisons and signs it
+// can, first). The rescaled input must lie in the safe range, and both routes must
 // be exercised.
 TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
     using T = TypeParam;
@@ -424,11 +433,20 @@ TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
                     ASSERT_EQ(*q, detail::exact_compare(bare, a, b)) << what << ": quick_compare";
                     checked = checked || !f.safe();
                 }
+                if (const std::optional<int> q = f.compare_at_any_scale(a, b)) {
+                    ASSERT_EQ(*q, detail::exact_compare(bare, a, b)) << what << ": from the exact rows";
+                    ++routes.exact_rows;
+                }
             }
         routes.checked += checked;
         for (const auto& [i, side] : values) {
             ASSERT_TRUE(faithful_by(bare, {i, side, 0}, detail::exact_faithful<T>(f, i, side)))
                 << what << "\n  slab value (" << i << ", " << side << ")";
+            if (const std::optional<T> w = f.template word_faithful<T>(i, side)) {
+                ASSERT_TRUE(faithful_by(bare, {i, side, 0}, *w)) << what << "\n  slab value (" << i << ", " << side
+                                                                 << ") from the pairs";
+                ++routes.word_rounded;
+            }
         }
         ASSERT_TRUE(routes.balanced_agrees(f, bare, detail::obb_values(c.ray, c.shape), refs, values)) << what;
     });
@@ -442,8 +460,8 @@ TYPED_TEST(CertifiedExactStage, ObbFrameComparisonsDecideAsTheBareQuotients) {
 // case of every generator, the crossing against t_min, t_max, 0, its rounded estimate
 // and their neighbours has the same exact_compare sign both ways (and quick_compare's
 // where it answers); the signs of den and num (the ray in the plane) are the bare ones;
-// and exact_faithful's t is a faithful rounding by the bare comparisons. Both the
-// rescaled and the checked routes must be exercised.
+// and exact_faithful's t, and word_faithful's where it answers, are faithful roundings
+// by the bare comparisons. Both the rescaled and the checked routes must be exercised.
 TYPED_TEST(CertifiedExactStage, PlaneCrossingDecidesAsTheBareQuotient) {
     using T = TypeParam;
     AffineRoutes routes;
@@ -480,9 +498,17 @@ TYPED_TEST(CertifiedExactStage, PlaneCrossingDecidesAsTheBareQuotient) {
                 ASSERT_EQ(*q, s) << what << ": quick_compare against " << r.c;
                 checked = checked || !x.safe();
             }
+            if (const std::optional<int> q = x.compare_at_any_scale(t, r)) {
+                ASSERT_EQ(*q, s) << what << ": from the exact row, against " << r.c;
+                ++routes.exact_rows;
+            }
         }
         routes.checked += checked;
         ASSERT_TRUE(faithful_by(bare, t, detail::exact_faithful<T>(x, 0, 0))) << what;
+        if (const std::optional<T> w = x.template word_faithful<T>(0, 0)) {
+            ASSERT_TRUE(faithful_by(bare, t, *w)) << what << ": from the pairs";
+            ++routes.word_rounded;
+        }
         refs.push_back(t);
         ASSERT_TRUE(routes.balanced_agrees(x, bare, detail::plane_values(c.ray, c.shape), refs, {{0, 0}})) << what;
     });

@@ -456,12 +456,12 @@ RAYPROOF_ALWAYS_INLINE Hit<T> query(const R& ray, const PreparedObb<T>& p, conse
 // frame's enclosures of its row (obb_certified_row), the sign of d'_i and the origin's
 // place in a parallel slab decided as the frame decides them. Every comparison the
 // enclosures leave is decided exactly (exact_compare on the box's exact side,
-// ObbExact: the double-word pairs, then the exact sums, then the exact types), and the
-// winners are rounded as ObbFrame::faithful rounds them (obb_word_rounding, the
-// frame's enclosure of the value, exact_faithful). Every decision
-// being the exact one and every rounding the same, it answers as the general path does,
-// bit for bit, without building the frame's six enclosures where the straight-line
-// path's hold.
+// ObbExact: the exact rows, the double-word pairs, then the exact sums, then the exact
+// types), and the winners are rounded as ObbFrame::faithful rounds them
+// (obb_word_rounding, the frame's enclosure of the value, exact_faithful). Every
+// decision being the exact one and every rounding the same, it answers as the general
+// path does, bit for bit, without building the frame's six enclosures where the
+// straight-line path's hold.
 template <class T>
 [[gnu::noinline]] Hit<T> obb_certified_stage(const Ray<T>& r, const Obb<T>& b, const lanes::D2 (&lo)[3],
                                              const lanes::D2 (&hi)[3], int negative, int known) {

@@ -8,7 +8,10 @@
 // and quick_compare are exact (rescaled()); quick_compare, quick_faithful and the exact
 // signs of num and den without an expansion type, from fixed-size sums of error-free
 // products (GrowingSum, exact.hpp). AffineSource serves a frame both, each made on first
-// use.
+// use, and before them the exact rows of integer-like input (num and den as plain
+// doubles, exactly: affine_exact_row), and for input too wide to rescale a balanced
+// copy (balanced(): each group scaled to its own largest magnitude, for the checked
+// sums).
 // Rescaling: the positions (o, c) by 2^sp, the rows a_i by 2^sa, the h_i by 2^(sp + sa)
 // and the direction by 2^sd (each exact: every scaled value is a normal double) multiply
 // every num by 2^(sp + sa), every den by 2^(sa + sd) and every quotient by
@@ -191,6 +194,66 @@ template <int R> struct AffineValues {
     double o[3], c[3], d[3], a[std::size_t(R)][3], h[std::size_t(R)];
 };
 
+// Row i's num(i, side) and den(i) as doubles, each the exact value, where plain
+// arithmetic gives them exactly, in the order of affine_row_sums' cascade
+// (quotient_sums_short_first on three products): num from ±h_i adding -a_ij·(o_j - c_j)
+// for j = 0, 1, 2, den from 0 adding a_ij·d_j, every addition exact (two_sum's error
+// 0, finite). Each o_j - c_j must be a double (two_sum's error 0, affine_exact_deltas)
+// and it, every a_ij and every d_j of at most 26 significant bits (high26(x) == x), so
+// that each product, where it is 0 with a zero factor or of magnitude in [2^-1022,
+// 2^1000], is exact (at most 52 bits, the last of weight at least 2^-1073).
+// Integer-like input (rays through a box's corners and edges, at any scale) is the
+// common case. Where the input is also safe, these are the cascade's own partial sums
+// with no error term at all, so that its sums are exactly (num, den) with zero low
+// parts and bounds (exact_row_sums).
+struct AffineExactRow {
+    double num[2], den;
+};
+// Without a branch per check (the checks' outcomes alternate on mixed input, where
+// branches on them would be mispredicted): each condition as an int, and'ed.
+RAYPROOF_ALWAYS_INLINE int short_double(double x) { return int(lanes::high26(x) == x); }
+template <int R> bool affine_exact_deltas(const AffineValues<R>& v, double (&delta)[3]) {
+    int ok = 1;
+    for (int j = 0; j < 3; ++j) {
+        const Pair t = two_sum(v.o[j], -v.c[j]);
+        delta[j] = t.hi;
+        ok &= int(t.lo == 0) & short_double(t.hi) & short_double(v.d[j]);
+    }
+    return ok != 0;
+}
+template <int R>
+bool affine_exact_row(const AffineValues<R>& v, const double (&delta)[3], int i, AffineExactRow& row) {
+    const auto product = [](double a, double b, double& p) {  // p = a·b; exact?
+        p = a * b;
+        const double m = std::abs(p);
+        return int(a == 0) | int(b == 0) | (int(m >= std::numeric_limits<double>::min()) & int(m <= 0x1p1000));
+    };
+    const auto add = [](double& s, double p) {  // s += p; exact?
+        const Pair t = two_sum(s, p);
+        s = t.hi;
+        return int(t.lo == 0) & int(std::abs(t.hi) <= std::numeric_limits<double>::max());
+    };
+    double lo = -v.h[i], hi = v.h[i], den = 0.0;
+    int ok = 1;
+    for (int j = 0; j < 3; ++j) {
+        const double a = v.a[i][j];
+        double pn, pd;
+        ok &= short_double(a) & product(-a, delta[j], pn) & product(a, v.d[j], pd);
+        ok &= add(lo, pn) & add(hi, pn) & add(den, pd);
+    }
+    row = {{lo, hi}, den};
+    return ok != 0;
+}
+// The cascade's sums for value (i, side) of an exact row on safe input, as
+// affine_row_sums makes them there: every error term 0, so c = +0 and S = +0, and the
+// renormalization gives hi = s + 0, lo = +0, bound +0; ok (the safe range lies within
+// quotient_sums' ranges, and c = 0 passes the renormalization's test).
+RAYPROOF_ALWAYS_INLINE QuotientSums exact_row_sums(const AffineExactRow& row, int side) {
+    using namespace lanes;
+    const SumOf<D2> r = fast_two_sum(make(row.num[side], row.den), splat(0.0));
+    return {r.hi, r.lo, splat(0.0), true};
+}
+
 template <int R> class AffineQuotients {
 public:
     // floats: the values are floats widened (every float is safe for expansions).
@@ -229,6 +292,7 @@ public:
     }
     int shift() const { return shift_; }
     bool safe() const { return safe_; }
+    const AffineValues<R>& values() const { return v_; }
     template <class E> E num(int i, int side) const { return E(side ? v_.h[i] : -v_.h[i]) - oprime<E>(i); }
     template <class E> E den(int i) const {
         E s(0.0);
@@ -452,6 +516,34 @@ public:
     template <class E> E num(int i, int side) const { return given().template num<E>(i, side); }
     template <class E> E den(int i) const { return given().template den<E>(i); }
     bool safe() const { return given().safe(); }
+    // exact_compare's sign at any scale (detail/certified.hpp), first of all, from the
+    // exact rows (affine_exact_row) where both values have one: sign(n1·d2 -
+    // n2·d1)·sign(d1·d2), or sign(n - c·d)·sign(d) against a constant c, each product
+    // exactly two doubles where exact_product_taken says so (two_prod), their signs
+    // compared as rounded pairs (compare_rounded_pairs; n as the pair (n, 0)). None
+    // where a row is not exact, a den is 0 or a product may be inexact.
+    std::optional<int> compare_at_any_scale(const SlabRef& a, const SlabRef& b) const {
+        if (a.axis < 0) {
+            const std::optional<int> s = compare_at_any_scale(b, a);
+            if (!s) return std::nullopt;
+            return -*s;
+        }
+        const AffineExactRow* x = exact_row(a.axis);
+        if (!x || x->den == 0) return std::nullopt;
+        const double n1 = x->num[a.side], d1 = x->den;
+        const int s1 = d1 > 0 ? 1 : -1;
+        if (b.axis < 0) {
+            const Pair q = two_prod(b.c, d1);
+            if (!exact_product_taken(b.c, q.hi)) return std::nullopt;
+            return compare_rounded_pairs(Pair{n1, 0.0}, q) * s1;
+        }
+        const AffineExactRow* y = exact_row(b.axis);
+        if (!y || y->den == 0) return std::nullopt;
+        const double n2 = y->num[b.side], d2 = y->den;
+        const Pair p = two_prod(n1, d2), q = two_prod(n2, d1);
+        if (!(exact_product_taken(n1, p.hi) && exact_product_taken(n2, q.hi))) return std::nullopt;
+        return compare_rounded_pairs(p, q) * s1 * (d2 > 0 ? 1 : -1);
+    }
     // On the balanced copy first where there is one (its constants scaled alike, where
     // that is exact), else on the input as given.
     std::optional<int> quick_compare(const SlabRef& a, const SlabRef& b) const {
@@ -472,9 +564,31 @@ public:
                     if (const std::optional<double> q = unscaled_faithful(*f, w->shift())) return *q;
         return given().template quick_faithful<U>(i, side);
     }
-    // word_faithful on the input as given where it is safe, else on the rescaled one.
+    // word_faithful on the input as given where it is safe (from an exact row's sums
+    // where it has one: exact_row_sums, the same bits), else on the rescaled one. On
+    // input that is not safe (double), a value of an exact row n/d is first pinned with
+    // n and d each scaled to [1, 2) (n·2^kn, d·2^kd: exact, the pin's ranges hold, the
+    // sums exact with zero bounds) and scaled back by 2^(kd - kn) (unscaled_faithful);
+    // n == 0 is t = +0 exactly.
     template <class U> std::optional<U> word_faithful(int i, int side) const {
-        if (safe()) return detail::word_faithful<U>(given(), i, side);
+        const AffineExactRow* x = exact_row(i);
+        if (safe()) {
+            if (x) {
+                const PinnedQuotient p = pin_quotient(exact_row_sums(*x, side));
+                if (!p.pinned) return std::nullopt;
+                return faithful_to<U>(p.c);
+            }
+            return detail::word_faithful<U>(given(), i, side);
+        }
+        if constexpr (std::is_same_v<U, double>)
+            if (x && x->den != 0) {
+                const double n = x->num[side], d = x->den;
+                if (n == 0) return 0.0;
+                const int kn = -binary_exponent(n), kd = -binary_exponent(d);
+                const PinnedQuotient p = pin_quotient(exact_row_sums({{times_pow2(n, kn), 0.0}, times_pow2(d, kd)}, 0));
+                if (p.pinned)
+                    if (const std::optional<double> q = unscaled_faithful(p.c, kn - kd)) return *q;
+            }
         if (const std::optional<AffineQuotients<R>>& s = scaled()) return detail::word_faithful<U>(*s, i, side);
         return std::nullopt;
     }
@@ -489,11 +603,13 @@ public:
     // fixed-size sums on the given input, else on the rescaled one (signs unchanged by
     // the scaling), else in an exact type.
     int exact_den_sign(int i) const {
+        if (const AffineExactRow* x = exact_row(i)) return (x->den > 0) - (x->den < 0);
         if (const std::optional<int> s = from_sums([&](const AffineQuotients<R>& q) { return q.den_sign(i); }))
             return *s;
         return exact_sign(safe(), [&](auto tag) { return den<typename decltype(tag)::type>(i); });
     }
     int exact_num_sign(int i, int side) const {
+        if (const AffineExactRow* x = exact_row(i)) return (x->num[side] > 0) - (x->num[side] < 0);
         if (const std::optional<int> s = from_sums([&](const AffineQuotients<R>& q) { return q.num_sign(i, side); }))
             return *s;
         return exact_sign(safe(), [&](auto tag) { return num<typename decltype(tag)::type>(i, side); });
@@ -525,8 +641,25 @@ private:
         if (!given_) given_.emplace(values(), floats_);
         return *given_;
     }
+    // Row i's exact values (affine_exact_row), made on first use; null where it has none.
+    const AffineExactRow* exact_row(int i) const {
+        const unsigned made = 1u << i, exact = 1u << (8 + i);
+        if (!(rows_ & made)) {
+            rows_ |= made;
+            if (!(rows_ & kDeltasMade)) {
+                rows_ |= kDeltasMade;
+                if (affine_exact_deltas(given().values(), delta_)) rows_ |= kDeltasExact;
+            }
+            if ((rows_ & kDeltasExact) && affine_exact_row(given().values(), delta_, i, row_[i])) rows_ |= exact;
+        }
+        return (rows_ & exact) ? &row_[i] : nullptr;
+    }
     AffineValues<R> values() const { return static_cast<const Frame&>(*this).affine_values(); }
     mutable std::optional<AffineQuotients<R>> given_, scaled_, balanced_;
+    static constexpr unsigned kDeltasMade = 1u << 16, kDeltasExact = 1u << 17;
+    mutable unsigned rows_ = 0;  // bit i: row i made, bit 8 + i: it is exact; the deltas' bits
+    mutable double delta_[3];
+    mutable AffineExactRow row_[std::size_t(R)];
     mutable bool scaled_made_ = false, balanced_made_ = false;
     bool floats_;
 };
