@@ -12,8 +12,9 @@
 //     its callers guard (zeros, short and full mantissas, products near 2^-900);
 //   - quotient_sums_short_first: the same bits as quotient_sums, short factors or not;
 //   - AffineSpans (affine_quotients.hpp): the groups' shifts and range tests from one
-//     pass, as affine_shifts and expansion_safe give them value by value, NaN, infinities,
-//     zeros and subnormals included;
+//     pass, as affine_shifts, balanced_affine_shifts and expansion_safe give them value
+//     by value, NaN, infinities, zeros and subnormals included;
+//   - AffineQuotients::balanced: its quotients are the given ones scaled exactly;
 //   - word_sign, word_difference and word_compare (the exact stages' comparisons from
 //     the pairs): on fine sums, the enclosure of N1·D2 - N2·D1 and of N - c·D always
 //     holds, and whenever they decide, the sign is the exact sign of N, of N1/D1 - N2/D2
@@ -261,25 +262,18 @@ TEST(AffineSpans, AreTheGroupsExponentSpans) {
         };
         ASSERT_EQ(spans.within(0x1p-100, 0x1p100), all_safe) << what();
         ASSERT_EQ(spans.within(0, std::numeric_limits<double>::max()), all_finite) << what();
-        const std::optional<AffineShifts> got = spans.shifts(),
-                                          want = affine_shifts(positions, rows, halves, directions);
-        ASSERT_EQ(got.has_value(), want.has_value()) << what();
-        if (want) {
-            ASSERT_EQ(got->sp, want->sp) << what();
-            ASSERT_EQ(got->sa, want->sa) << what();
-            ASSERT_EQ(got->sd, want->sd) << what();
+        const auto same = [](const std::optional<AffineShifts>& got, const std::optional<AffineShifts>& want) {
+            return got.has_value() == want.has_value() &&
+                   (!want || (got->sp == want->sp && got->sa == want->sa && got->sd == want->sd));
+        };
+        const std::optional<AffineShifts> want = affine_shifts(positions, rows, halves, directions);
+        ASSERT_TRUE(same(spans.shifts(), want)) << what() << ": the shifts into the safe range";
+        if (want)
             shifted += want->sp != 0 || want->sa != 0 || want->sd != 0;
-        } else {
+        else
             ++unscalable;
-        }
-        const std::optional<AffineShifts> got_b = spans.balanced_shifts(),
-                                          want_b = balanced_affine_shifts(positions, rows, halves, directions);
-        ASSERT_EQ(got_b.has_value(), want_b.has_value()) << what();
-        if (want_b) {
-            ASSERT_EQ(got_b->sp, want_b->sp) << what();
-            ASSERT_EQ(got_b->sa, want_b->sa) << what();
-            ASSERT_EQ(got_b->sd, want_b->sd) << what();
-        }
+        ASSERT_TRUE(same(spans.balanced_shifts(), balanced_affine_shifts(positions, rows, halves, directions)))
+            << what() << ": the balanced shifts";
         safe += all_safe;
     }
     // Every outcome reached: safe input, input scaled into the range, input no scaling fits.
