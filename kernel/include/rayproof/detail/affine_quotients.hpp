@@ -212,17 +212,22 @@ struct AffineExactRow {
 // Without a branch per check (the checks' outcomes alternate on mixed input, where
 // branches on them would be mispredicted): each condition as an int, and'ed.
 RAYPROOF_ALWAYS_INLINE int short_double(double x) { return int(lanes::high26(x) == x); }
-template <int R> bool affine_exact_deltas(const AffineValues<R>& v, double (&delta)[3]) {
+struct AffineDeltas {
+    double d[3];  // o_j - c_j
+};
+template <int R> std::optional<AffineDeltas> affine_exact_deltas(const AffineValues<R>& v) {
+    AffineDeltas x;
     int ok = 1;
     for (int j = 0; j < 3; ++j) {
         const Pair t = two_sum(v.o[j], -v.c[j]);
-        delta[j] = t.hi;
+        x.d[j] = t.hi;
         ok &= int(t.lo == 0) & short_double(t.hi) & short_double(v.d[j]);
     }
-    return ok != 0;
+    if (!ok) return std::nullopt;
+    return x;
 }
 template <int R>
-bool affine_exact_row(const AffineValues<R>& v, const double (&delta)[3], int i, AffineExactRow& row) {
+std::optional<AffineExactRow> affine_exact_row(const AffineValues<R>& v, const AffineDeltas& delta, int i) {
     const auto product = [](double a, double b, double& p) {  // p = a·b; exact?
         p = a * b;
         const double m = std::abs(p);
@@ -238,11 +243,11 @@ bool affine_exact_row(const AffineValues<R>& v, const double (&delta)[3], int i,
     for (int j = 0; j < 3; ++j) {
         const double a = v.a[i][j];
         double pn, pd;
-        ok &= short_double(a) & product(-a, delta[j], pn) & product(a, v.d[j], pd);
+        ok &= short_double(a) & product(-a, delta.d[j], pn) & product(a, v.d[j], pd);
         ok &= add(lo, pn) & add(hi, pn) & add(den, pd);
     }
-    row = {{lo, hi}, den};
-    return ok != 0;
+    if (!ok) return std::nullopt;
+    return AffineExactRow{{lo, hi}, den};
 }
 // The cascade's sums for value (i, side) of an exact row on safe input, as
 // affine_row_sums makes them there: every error term 0, so c = +0 and S = +0, and the
@@ -648,9 +653,16 @@ private:
             rows_ |= made;
             if (!(rows_ & kDeltasMade)) {
                 rows_ |= kDeltasMade;
-                if (affine_exact_deltas(given().values(), delta_)) rows_ |= kDeltasExact;
+                if (const std::optional<AffineDeltas> x = affine_exact_deltas(given().values())) {
+                    delta_ = *x;
+                    rows_ |= kDeltasExact;
+                }
             }
-            if ((rows_ & kDeltasExact) && affine_exact_row(given().values(), delta_, i, row_[i])) rows_ |= exact;
+            if (rows_ & kDeltasExact)
+                if (const std::optional<AffineExactRow> x = affine_exact_row(given().values(), delta_, i)) {
+                    row_[i] = *x;
+                    rows_ |= exact;
+                }
         }
         return (rows_ & exact) ? &row_[i] : nullptr;
     }
@@ -658,7 +670,7 @@ private:
     mutable std::optional<AffineQuotients<R>> given_, scaled_, balanced_;
     static constexpr unsigned kDeltasMade = 1u << 16, kDeltasExact = 1u << 17;
     mutable unsigned rows_ = 0;  // bit i: row i made, bit 8 + i: it is exact; the deltas' bits
-    mutable double delta_[3];
+    mutable AffineDeltas delta_;
     mutable AffineExactRow row_[std::size_t(R)];
     mutable bool scaled_made_ = false, balanced_made_ = false;
     bool floats_;
