@@ -262,21 +262,20 @@ RAYPROOF_ALWAYS_INLINE QuotientSums exact_row_sums(const AffineExactRow& row, in
 template <int R> class AffineQuotients {
 public:
     // floats: the values are floats widened (every float is safe for expansions).
-    // Safe: every value expansion_safe (0 or of magnitude in [2^-100, 2^100]), tested two
-    // at a time (lanes::in_band) over the values as one array.
-    AffineQuotients(const AffineValues<R>& v, bool floats) : v_(v), shift_(0) {
-        safe_ = true;
-        if (!floats) {
-            using namespace lanes;
-            constexpr std::size_t n = 9 + 4 * std::size_t(R);
-            static_assert(sizeof(AffineValues<R>) == n * sizeof(double));
-            double x[n + 1];
-            std::memcpy(x, &v, sizeof v);
-            x[n] = 0;
-            M2 ok = splat(0.0) == splat(0.0);
-            for (std::size_t k = 0; k < n; k += 2) ok = ok & in_band(load2(x + k), splat(0x1p-100), splat(0x1p100));
-            safe_ = bits(ok) == 3;
-        }
+    // Safe: every value expansion_safe (0 or of magnitude in [2^-100, 2^100]).
+    AffineQuotients(const AffineValues<R>& v, bool floats) : v_(v), shift_(0), safe_(floats || safe_values(v)) {}
+    // Whether every value is expansion_safe, tested two at a time (lanes::in_band) over
+    // the values as one array.
+    static bool safe_values(const AffineValues<R>& v) {
+        using namespace lanes;
+        constexpr std::size_t n = 9 + 4 * std::size_t(R);
+        static_assert(sizeof(AffineValues<R>) == n * sizeof(double));
+        double x[n + 1];
+        std::memcpy(x, &v, sizeof v);
+        x[n] = 0;
+        M2 ok = splat(0.0) == splat(0.0);
+        for (std::size_t k = 0; k < n; k += 2) ok = ok & in_band(load2(x + k), splat(0x1p-100), splat(0x1p100));
+        return bits(ok) == 3;
     }
     // The input rescaled as above with every scaled value in [2^-100, 2^100] or 0, where
     // such shifts exist (affine_shifts); none otherwise.
@@ -293,7 +292,7 @@ public:
         const std::optional<AffineShifts> s = spans_of(v).balanced_shifts();
         if (!s) return std::nullopt;
         const AffineValues<R> w = shifted(v, *s);
-        return AffineQuotients(w, s->sp - s->sd, AffineQuotients(w, false).safe());
+        return AffineQuotients(w, s->sp - s->sd, safe_values(w));
     }
     int shift() const { return shift_; }
     bool safe() const { return safe_; }
@@ -522,11 +521,11 @@ public:
     template <class E> E den(int i) const { return given().template den<E>(i); }
     bool safe() const { return given().safe(); }
     // exact_compare's sign at any scale (detail/certified.hpp), first of all, from the
-    // exact rows (affine_exact_row) where both values have one: sign(n1·d2 -
-    // n2·d1)·sign(d1·d2), or sign(n - c·d)·sign(d) against a constant c, each product
-    // exactly two doubles where exact_product_taken says so (two_prod), their signs
-    // compared as rounded pairs (compare_rounded_pairs; n as the pair (n, 0)). None
-    // where a row is not exact, a den is 0 or a product may be inexact.
+    // exact rows (affine_exact_row) where both values have one: the box's comparisons at
+    // any scale (compare_slab_values, compare_slab_value: detail/exact.hpp) of n/d taken
+    // as (n - 0)/d, where two_sum(n, -0) is (n, 0) exactly, so that they compare the
+    // exact products n1·d2 and n2·d1 (or n and c·d) as rounded pairs. None where a row is
+    // not exact, a den is 0 or a product may be inexact.
     std::optional<int> compare_at_any_scale(const SlabRef& a, const SlabRef& b) const {
         if (a.axis < 0) {
             const std::optional<int> s = compare_at_any_scale(b, a);
@@ -535,19 +534,10 @@ public:
         }
         const AffineExactRow* x = exact_row(a.axis);
         if (!x || x->den == 0) return std::nullopt;
-        const double n1 = x->num[a.side], d1 = x->den;
-        const int s1 = d1 > 0 ? 1 : -1;
-        if (b.axis < 0) {
-            const Pair q = two_prod(b.c, d1);
-            if (!exact_product_taken(b.c, q.hi)) return std::nullopt;
-            return compare_rounded_pairs(Pair{n1, 0.0}, q) * s1;
-        }
+        if (b.axis < 0) return compare_slab_value(x->num[a.side], 0.0, x->den, b.c);
         const AffineExactRow* y = exact_row(b.axis);
         if (!y || y->den == 0) return std::nullopt;
-        const double n2 = y->num[b.side], d2 = y->den;
-        const Pair p = two_prod(n1, d2), q = two_prod(n2, d1);
-        if (!(exact_product_taken(n1, p.hi) && exact_product_taken(n2, q.hi))) return std::nullopt;
-        return compare_rounded_pairs(p, q) * s1 * (d2 > 0 ? 1 : -1);
+        return compare_slab_values(x->num[a.side], 0.0, x->den, y->num[b.side], 0.0, y->den);
     }
     // On the balanced copy first where there is one (its constants scaled alike, where
     // that is exact), else on the input as given.
