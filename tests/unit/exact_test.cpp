@@ -1089,6 +1089,63 @@ TEST(ExactSlabValues, ComparisonsAtAnyScaleAgainstMpq) {
     EXPECT_GT(constants_answered, 40000) << "comparisons with constants should be exercised";
 }
 
+// compare_products: sign(x1·y1 - x2·y2) against GMP for finite doubles of any range,
+// subnormals and zeros of both signs included, where the products underflow, overflow
+// or tie: factors from `interesting`, pairs built to tie exactly (x2 = x1·2^k, y2 =
+// y1·2^-k, where both scalings are exact) or to differ by an ulp of one factor, and
+// products two binades apart (decided by exponents alone). Each route is taken: sign
+// differences, exponents alone, and the rounded pairs, ties among them. split_exponent
+// is checked on every factor (m·2^e == x exactly, |m| in [1, 2), m's sign x's).
+TEST(ExactProducts, CompareProductsAgainstMpq) {
+    SEED_TRACE();
+    auto rng = make_rng();
+    int by_sign = 0, by_exponent = 0, by_pairs = 0, ties = 0, out_of_range = 0;
+    double prev = 1.0;
+    for (int it = 0; it < 200000; ++it) {
+        double x1 = interesting(rng, prev), y1 = interesting(rng, x1), x2 = interesting(rng, y1), y2 = interesting(rng, x2);
+        prev = y2;
+        switch (rng() % 4) {
+            case 0: {  // an exact tie where both scalings are exact
+                const int k = int(rng() % 41) - 20;
+                const double a = std::ldexp(x1, k), b = std::ldexp(y1, -k);
+                if (std::isfinite(a) && std::isfinite(b) && std::ldexp(a, -k) == x1 && std::ldexp(b, k) == y1)
+                    x2 = a, y2 = b;
+                break;
+            }
+            case 1: {  // one factor an ulp off a tie
+                x2 = x1, y2 = std::nextafter(y1, (rng() & 1) ? 1e308 : -1e308);
+                if (!std::isfinite(y2)) y2 = y1;
+                break;
+            }
+            default: break;
+        }
+        SCOPED_TRACE(hex(x1) + " * " + hex(y1) + " vs " + hex(x2) + " * " + hex(y2));
+        for (const double x : {x1, y1, x2, y2}) {
+            if (x == 0) continue;
+            const SplitDouble s = split_exponent(x);
+            ASSERT_TRUE(std::abs(s.m) >= 1 && std::abs(s.m) < 2 && (s.m < 0) == (x < 0)) << hex(x);
+            ASSERT_EQ(times_pow2(Q(s.m), s.e), Q(x)) << hex(x);
+        }
+        const mpq_class p = Q(x1) * Q(y1), q = Q(x2) * Q(y2);
+        ASSERT_EQ(compare_products(x1, y1, x2, y2), sgn(p - q));
+        const int s1 = sgn(p), s2 = sgn(q);
+        if (s1 != s2 || s1 == 0) {
+            ++by_sign;
+        } else {
+            const int k = (split_exponent(x1).e + split_exponent(y1).e) - (split_exponent(x2).e + split_exponent(y2).e);
+            (k >= 2 || k <= -2 ? by_exponent : by_pairs)++;
+            ties += p == q;
+            const double r1 = std::abs(x1 * y1), r2 = std::abs(x2 * y2);
+            out_of_range += r1 < 0x1p-1022 || r2 < 0x1p-1022 || std::isinf(r1) || std::isinf(r2);
+        }
+    }
+    EXPECT_GT(by_sign, 10000) << "products of different signs or zero should be exercised";
+    EXPECT_GT(by_exponent, 10000) << "products binades apart should be exercised";
+    EXPECT_GT(by_pairs, 20000) << "products within a binade should be compared as pairs";
+    EXPECT_GT(ties, 5000) << "exact ties should be exercised";
+    EXPECT_GT(out_of_range, 5000) << "products that underflow or overflow should be compared";
+}
+
 // unscaled_faithful: a faithful double for q from f, a faithful double for 2^shift·q
 // (a rescaled copy's rounding scaled back). For random normal f (below the largest
 // double: ±max may be a clamp) and q' = 2^shift·q at f or strictly between f and one of

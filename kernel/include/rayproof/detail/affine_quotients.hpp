@@ -521,11 +521,10 @@ public:
     template <class E> E den(int i) const { return given().template den<E>(i); }
     bool safe() const { return given().safe(); }
     // exact_compare's sign at any scale (detail/certified.hpp), first of all, from the
-    // exact rows (affine_exact_row) where both values have one: the box's comparisons at
-    // any scale (compare_slab_values, compare_slab_value: detail/exact.hpp) of n/d taken
-    // as (n - 0)/d, where two_sum(n, -0) is (n, 0) exactly, so that they compare the
-    // exact products n1·d2 and n2·d1 (or n and c·d) as rounded pairs. None where a row is
-    // not exact, a den is 0 or a product may be inexact.
+    // exact rows (affine_exact_row) where both values have one: sign(n1·d2 -
+    // n2·d1)·sign(d1·d2), or sign(n·1 - c·d)·sign(d) against a constant c, each by
+    // compare_products (detail/exact.hpp: exact for every finite double, whatever the
+    // products' range). None where a row is not exact or a den is 0.
     std::optional<int> compare_at_any_scale(const SlabRef& a, const SlabRef& b) const {
         if (a.axis < 0) {
             const std::optional<int> s = compare_at_any_scale(b, a);
@@ -534,10 +533,11 @@ public:
         }
         const AffineExactRow* x = exact_row(a.axis);
         if (!x || x->den == 0) return std::nullopt;
-        if (b.axis < 0) return compare_slab_value(x->num[a.side], 0.0, x->den, b.c);
+        const int s1 = x->den > 0 ? 1 : -1;
+        if (b.axis < 0) return compare_products(x->num[a.side], 1.0, b.c, x->den) * s1;
         const AffineExactRow* y = exact_row(b.axis);
         if (!y || y->den == 0) return std::nullopt;
-        return compare_slab_values(x->num[a.side], 0.0, x->den, y->num[b.side], 0.0, y->den);
+        return compare_products(x->num[a.side], y->den, y->num[b.side], x->den) * s1 * (y->den > 0 ? 1 : -1);
     }
     // On the balanced copy first where there is one (its constants scaled alike, where
     // that is exact), else on the input as given.

@@ -960,6 +960,26 @@ inline std::optional<int> compare_slab_value(double p, double o, double d, doubl
     return compare_rounded_pairs(n, td) * (d > 0 ? 1 : -1);
 }
 
+// sign(x1·y1 − x2·y2) for finite doubles, exactly at any scale (no product need be
+// representable): the products' signs first; for two of the same nonzero sign, each
+// factor split as m·2^e (split_exponent, exact) and E1 = e_x1 + e_y1, E2 = e_x2 + e_y2;
+// where they differ by 2 or more the exponents decide (|x1 y1| >= 2^E1 >= 2^(E2 + 2) >
+// |x2 y2|, or the other way), else the products of the ms, each exactly two doubles of
+// magnitude [1, 4) and a low part 0 or at least 2^-104 (two_prod, no underflow), the
+// first scaled by 2^(E1 - E2), one of 1/2, 1, 2 (exact), compared as rounded pairs.
+inline int compare_products(double x1, double y1, double x2, double y2) {
+    const auto sign = [](double x) { return int(x > 0) - int(x < 0); };
+    const int s1 = sign(x1) * sign(y1), s2 = sign(x2) * sign(y2);
+    if (s1 != s2 || s1 == 0) return int(s1 > s2) - int(s1 < s2);
+    const SplitDouble a = split_exponent(x1), b = split_exponent(y1), c = split_exponent(x2), d = split_exponent(y2);
+    const int k = (a.e + b.e) - (c.e + d.e);
+    if (k >= 2) return s1;
+    if (k <= -2) return -s1;
+    const Pair p = two_prod(std::abs(a.m), std::abs(b.m)), q = two_prod(std::abs(c.m), std::abs(d.m));
+    const double scale = k == 0 ? 1.0 : k > 0 ? 2.0 : 0.5;
+    return compare_rounded_pairs(Pair{p.hi * scale, p.lo * scale}, q) * s1;
+}
+
 // The determinant a(ei − fh) − b(di − fg) + c(dh − eg) in an exact type.
 template <class E, class T> E det3_exact(const Eigen::Matrix<T, 3, 3>& m) {
     const E a(m(0, 0)), b(m(0, 1)), c(m(0, 2));

@@ -74,6 +74,24 @@ inline int binary_exponent(double x) noexcept {
     return (63 - std::countl_zero(b & ((std::uint64_t(1) << 52) - 1))) - 1074;
 }
 
+// x = m·2^e exactly, |m| in [1, 2) with x's sign, for a finite nonzero double x
+// (subnormals included: first scaled by 2^52, exactly): m is x's bits with the exponent
+// field set to that of 1.
+struct SplitDouble {
+    double m;
+    int e;
+};
+inline SplitDouble split_exponent(double x) noexcept {
+    constexpr std::uint64_t field = std::uint64_t(0x7ff) << 52;
+    int shift = 0;
+    if ((std::bit_cast<std::uint64_t>(x) & field) == 0) {
+        x *= 0x1p52;
+        shift = 52;
+    }
+    const auto b = std::bit_cast<std::uint64_t>(x);
+    return {std::bit_cast<double>((b & ~field) | (std::uint64_t(1023) << 52)), int((b & field) >> 52) - 1023 - shift};
+}
+
 // The exponent k of the last nonzero bit of a finite nonzero double x (x = m·2^k, m an
 // odd integer), subnormals included: every multiple of x is a multiple of 2^k.
 inline int last_bit_exponent(double x) noexcept {
