@@ -241,16 +241,17 @@ TYPED_TEST(CertifiedExactStage, Obb) { run_shape<TypeParam, Obb<TypeParam>>(); }
 TYPED_TEST(CertifiedExactStage, Plane) { run_shape<TypeParam, Plane<TypeParam>>(); }
 TYPED_TEST(CertifiedExactStage, Sphere) { run_shape<TypeParam, Sphere<TypeParam>>(); }
 // The Aabb's exact comparisons through its frame, which compares without an expansion
-// type at any scale where its products are exact (compare_at_any_scale:
-// compare_slab_values, exact.hpp) and otherwise at a safer scale where the input is not
-// safe (AabbScaledQuotients), decide as its bare quotients in expansions or BigDyadic:
+// type at any scale where its differences p - o are exact or its products are
+// (compare_at_any_scale: compare_slab_values, exact.hpp) and otherwise at a safer scale
+// where the input is not safe (AabbScaledQuotients), decide as its bare quotients in
+// expansions or BigDyadic:
 // on every valid case of every generator, every pair among the slab values of the
 // non-parallel axes and the constants t_min, t_max, 0, the slab values' rounded
 // estimates and their neighbours (near ties) has the same exact_compare sign both ways,
 // and so has the rescaled source on its own wherever it exists (every pair whose
 // constants it scales exactly); and for double the rescaled source exists on many of
 // the cases (extreme exponents, scaled integer configurations) and is the route taken
-// on some pairs (a product beyond the exact range).
+// on some pairs (a difference with an error term and a product beyond the exact range).
 TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
     using T = TypeParam;
     int scaled_cases = 0, scaled_route = 0;
@@ -293,7 +294,7 @@ TYPED_TEST(CertifiedExactStage, AabbFrameComparisonsDecideAsTheBareQuotients) {
     });
     if constexpr (std::is_same_v<T, double>) {  // every float is safe
         EXPECT_GT(scaled_cases, 100) << "the scaled comparisons should be exercised";
-        EXPECT_GT(scaled_route, 100) << "comparisons beyond the exact range should take the rescaled values";
+        EXPECT_GT(scaled_route, 100) << "inexact differences beyond the exact range should take the rescaled values";
     }
 }
 

@@ -1013,11 +1013,12 @@ std::optional<SlabValuePair> slab_value_pair(std::mt19937_64& rng, Gen&& gen, in
 // range, near ties above all: the second value the first scaled by a power of two in
 // both its difference and its denominator (an exact tie), or that tie moved by an ulp
 // in one of its three numbers; the constants the nearest double to a slab value and its
-// neighbours, and constants whose product with d leaves the exact range (no answer).
+// neighbours, and constants whose product with d leaves the exact range: answered
+// (compare_products) where p - o is a double, declined only where it is not.
 TEST(ExactSlabValues, ComparisonsAgainstMpq) {
     SEED_TRACE();
     auto rng = make_rng();
-    int ties = 0, declined = 0;
+    int ties = 0, declined = 0, beyond_answered = 0;
     for (int it = 0; it < 20000; ++it) {
         const std::optional<SlabValuePair> pair =
             slab_value_pair(rng, safe_interesting, 4, [](double x) { return expansion_safe(x); });
@@ -1032,14 +1033,17 @@ TEST(ExactSlabValues, ComparisonsAgainstMpq) {
                                std::numeric_limits<double>::denorm_min()}) {
             const std::optional<int> s = compare_slab_value(p1, o1, d1, t);
             if (!s) {
+                ASSERT_NE(two_sum(p1, -o1).lo, 0.0) << "declined with an exact difference, t = " << hex(t);
                 ++declined;
                 continue;
             }
             ASSERT_EQ(*s, sgn(v1 - Q(t))) << "t = " << hex(t);
+            beyond_answered += !exact_product_taken(t, two_prod(t, d1).hi);
         }
     }
     EXPECT_GT(ties, 1000) << "exact ties should be exercised";
-    EXPECT_GT(declined, 1000) << "constants out of the exact range should be declined";
+    EXPECT_GT(beyond_answered, 1000) << "constants out of the exact range should be answered where p - o is exact";
+    EXPECT_GT(declined, 1000) << "constants out of the exact range should be declined where p - o is not a double";
 }
 
 // The same comparisons at any scale (they check their own products, so that the Aabb's
@@ -1047,13 +1051,14 @@ TEST(ExactSlabValues, ComparisonsAgainstMpq) {
 // range (extreme exponents, subnormals, near-equal pairs), the second value the first
 // scaled by 2^k, |k| up to 600, in all three numbers (an exact tie) or that tie moved by
 // an ulp, and constants near the value. Every answer agrees with GMP; on input safe for
-// expansions none declines; and each route is taken: ties of exact differences (two
-// rounded pairs), differences with an error term (the eight-term sum), answers on input
-// outside the safe range, and declines.
+// expansions none declines, nor where both differences are exact; and each route is
+// taken: ties of exact differences (two rounded pairs), exact differences whose
+// products leave the exact range (compare_products), differences with an error term
+// (the eight-term sum), answers on input outside the safe range, and declines.
 TEST(ExactSlabValues, ComparisonsAtAnyScaleAgainstMpq) {
     SEED_TRACE();
     auto rng = make_rng();
-    int ties = 0, with_error_term = 0, unsafe_answered = 0, declined = 0, constants_answered = 0;
+    int ties = 0, with_error_term = 0, unsafe_answered = 0, declined = 0, constants_answered = 0, beyond_answered = 0;
     for (int it = 0; it < 40000; ++it) {
         const std::optional<SlabValuePair> pair =
             slab_value_pair(rng, interesting, 600, [](double x) { return std::isfinite(x); });
@@ -1064,14 +1069,19 @@ TEST(ExactSlabValues, ComparisonsAtAnyScaleAgainstMpq) {
         const bool safe = expansion_safe(p1) && expansion_safe(o1) && expansion_safe(d1) && expansion_safe(p2) &&
                           expansion_safe(o2) && expansion_safe(d2);
         const std::optional<int> s = compare_slab_values(p1, o1, d1, p2, o2, d2);
+        const Pair n1 = two_sum(p1, -o1), n2 = two_sum(p2, -o2);
+        const bool exact_differences = n1.lo == 0 && n2.lo == 0;
         if (!s) {
             ASSERT_FALSE(safe) << "declined on input safe for expansions";
+            ASSERT_FALSE(exact_differences) << "declined with both differences exact";
             ++declined;
         } else {
             ASSERT_EQ(*s, sgn(v1 - v2));
             ties += v1 == v2;
-            with_error_term += two_sum(p1, -o1).lo != 0 || two_sum(p2, -o2).lo != 0;
+            with_error_term += !exact_differences;
             unsafe_answered += !safe;
+            beyond_answered += exact_differences && !(exact_product_taken(n1.hi, two_prod(n1.hi, d2).hi) &&
+                                                      exact_product_taken(n2.hi, two_prod(n2.hi, d1).hi));
         }
         const double near = v1.get_d();
         for (const double t : {near, std::nextafter(near, 1e308), std::nextafter(near, -1e308), 0.0}) {
@@ -1085,7 +1095,8 @@ TEST(ExactSlabValues, ComparisonsAtAnyScaleAgainstMpq) {
     EXPECT_GT(ties, 1000) << "exact ties should be exercised";
     EXPECT_GT(with_error_term, 1000) << "differences with an error term should be exercised";
     EXPECT_GT(unsafe_answered, 5000) << "input outside the safe range should be answered";
-    EXPECT_GT(declined, 500) << "products outside the exact range should be declined";
+    EXPECT_GT(declined, 500) << "products outside the exact range should be declined after an inexact difference";
+    EXPECT_GT(beyond_answered, 500) << "exact differences should be compared beyond the exact range";
     EXPECT_GT(constants_answered, 40000) << "comparisons with constants should be exercised";
 }
 

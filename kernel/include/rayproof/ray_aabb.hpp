@@ -53,9 +53,11 @@
 //            while |s|, |t~| >= 2^-960) and exact arithmetic beyond. Their exact
 //            comparisons take the sign of (p1 - o1)·d2 - (p2 - o2)·d1 from error-free
 //            differences and products without an expansion type (compare_slab_values,
-//            detail/exact.hpp: two exact products compared as rounded pairs where both
-//            differences are exact), at any scale where every product is exact;
-//            otherwise, where the positions and the directions each span at most 199
+//            detail/exact.hpp): where both differences are exact, two exact products
+//            compared as rounded pairs, or by their exponents and significands
+//            (compare_products) where a product leaves the exact range, at any scale;
+//            otherwise at any scale where every product is exact, and else, where the
+//            positions and the directions each span at most 199
 //            binades, the same quotients with positions and directions rescaled by
 //            powers of two into the Expansion type's safe range (AabbScaledQuotients:
 //            exact, and every comparison keeps its sign); only the rest goes to
@@ -209,8 +211,9 @@ template <class T> std::optional<T> faithful_slab_value(T p, T o, T d) {
 
 // exact_compare(a, b) of slab values (p - o)/d given as {p, o, d} by value(i, side),
 // without an expansion type (compare_slab_values and compare_slab_value, exact.hpp);
-// none where one of their products may be inexact (extreme exponents: exact_compare
-// then tries the values at a safer scale, or an expansion type).
+// none where a difference p - o is not a double and one of the products may be inexact
+// (extreme exponents: exact_compare then tries the values at a safer scale, or an
+// expansion type).
 template <class Value> std::optional<int> slab_quick_compare(const SlabRef& a, const SlabRef& b, Value&& value) {
     if (a.axis >= 0 && b.axis >= 0) {
         const auto x = value(a.axis, a.side), y = value(b.axis, b.side);
@@ -290,8 +293,8 @@ public:
 
     template <class E> E num(int i, int side) const { return E(double(plane(i, side))) - E(double(o_[i])); }
     template <class E> E den(int i) const { return E(double(d_[i])); }
-    // (exact_compare: tried before the scaled() values, which it needs only where one of
-    // its products leaves the exact range.)
+    // (exact_compare: tried before the scaled() values, which it needs only where a
+    // difference has an error term and one of its products leaves the exact range.)
     std::optional<int> compare_at_any_scale(const SlabRef& a, const SlabRef& b) const {
         return slab_quick_compare(a, b, [&](int i, int side) {
             return std::array<double, 3>{double(plane(i, side)), double(o_[i]), double(d_[i])};

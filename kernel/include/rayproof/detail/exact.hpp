@@ -926,40 +926,6 @@ RAYPROOF_ALWAYS_INLINE int compare_rounded_pairs(const Pair& x, const Pair& y) {
     return hi != 0 ? hi : lo;
 }
 
-// sign((p1 − o1)/d1 − (p2 − o2)/d2) for finite slab values with d1, d2 finite and
-// nonzero, without an expansion type, for input of any range: p − o = s + e exactly
-// (two_sum), each part's product by the other denominator exactly two doubles where
-// exact_product_taken says so, and the sign of s1·d2 + e1·d2 − s2·d1 − e2·d1 times
-// sign(d1 d2). None where a product may be inexact. two_sum is exact unless one of its
-// steps overflows, and then its error term is ±inf or NaN (an infinite step propagates
-// to it), whose product fails the check. Every input 0 or in [2^-100, 2^100]
-// (expansion_safe) always passes: |s·d| >= 2^-200 and |e·d| >= 2^-253 where nonzero,
-// below 2^201.
-// Where both differences are exact (e1 = e2 = 0: the common case, and every grazing
-// configuration of small integers), the sign is that of s1·d2 − s2·d1, two exact
-// products as rounded pairs (compare_rounded_pairs); otherwise that of the eight-term
-// sum (each term at most 2^1000: it cannot overflow), grown exactly.
-inline std::optional<int> compare_slab_values(double p1, double o1, double d1, double p2, double o2, double d2) {
-    const Pair n1 = two_sum(p1, -o1), n2 = two_sum(p2, -o2);
-    const Pair a = two_prod(n1.hi, d2), c = two_prod(n2.hi, d1);
-    if (!(exact_product_taken(n1.hi, a.hi) && exact_product_taken(n2.hi, c.hi))) return std::nullopt;
-    const int sign_d = (d1 > 0) == (d2 > 0) ? 1 : -1;
-    if (n1.lo == 0 && n2.lo == 0) return compare_rounded_pairs(a, c) * sign_d;
-    const Pair b = two_prod(n1.lo, d2), d = two_prod(n2.lo, d1);
-    if (!(exact_product_taken(n1.lo, b.hi) && exact_product_taken(n2.lo, d.hi))) return std::nullopt;
-    const double x[8] = {a.lo, b.lo, -c.lo, -d.lo, a.hi, b.hi, -c.hi, -d.hi};
-    return exact_sum_sign(x, 8) * sign_d;
-}
-// sign((p − o)/d − t) likewise for a finite t: the sign of (s + e) − t·d, s + e = p − o
-// (two_sum: s its rounding) and t·d (two_prod) both as rounded pairs
-// (compare_rounded_pairs); none where t·d may be inexact or e is not finite (a step of
-// two_sum overflowed).
-inline std::optional<int> compare_slab_value(double p, double o, double d, double t) {
-    const Pair n = two_sum(p, -o), td = two_prod(t, d);
-    if (!(exact_product_taken(t, td.hi) && n.lo - n.lo == 0)) return std::nullopt;
-    return compare_rounded_pairs(n, td) * (d > 0 ? 1 : -1);
-}
-
 // sign(x1·y1 − x2·y2) for finite doubles, exactly at any scale (no product need be
 // representable): the products' signs first; for two of the same nonzero sign, each
 // factor split as m·2^e (split_exponent, exact) and E1 = e_x1 + e_y1, E2 = e_x2 + e_y2;
@@ -978,6 +944,46 @@ inline int compare_products(double x1, double y1, double x2, double y2) {
     const Pair p = two_prod(std::abs(a.m), std::abs(b.m)), q = two_prod(std::abs(c.m), std::abs(d.m));
     const double scale = k == 0 ? 1.0 : k > 0 ? 2.0 : 0.5;
     return compare_rounded_pairs(Pair{p.hi * scale, p.lo * scale}, q) * s1;
+}
+
+// sign((p1 − o1)/d1 − (p2 − o2)/d2) for finite slab values with d1, d2 finite and
+// nonzero, without an expansion type, for input of any range: p − o = s + e exactly
+// (two_sum), each part's product by the other denominator exactly two doubles where
+// exact_product_taken says so, and the sign of s1·d2 + e1·d2 − s2·d1 − e2·d1 times
+// sign(d1 d2). two_sum is exact unless one of its steps overflows, and then its error
+// term is ±inf or NaN (an infinite step propagates to it), whose product fails the
+// check. Every input 0 or in [2^-100, 2^100] (expansion_safe) always passes: |s·d| >=
+// 2^-200 and |e·d| >= 2^-253 where nonzero, below 2^201.
+// Where both differences are exact (e1 = e2 = 0: the common case, and every grazing
+// configuration of small integers), the sign is that of s1·d2 − s2·d1: two exact
+// products as rounded pairs (compare_rounded_pairs) where both are taken, else
+// compare_products (exact at any scale), so that this case is never declined;
+// otherwise that of the eight-term sum (each term at most 2^1000: it cannot overflow),
+// grown exactly, and none where one of its products may be inexact.
+inline std::optional<int> compare_slab_values(double p1, double o1, double d1, double p2, double o2, double d2) {
+    const Pair n1 = two_sum(p1, -o1), n2 = two_sum(p2, -o2);
+    const Pair a = two_prod(n1.hi, d2), c = two_prod(n2.hi, d1);
+    const bool taken = exact_product_taken(n1.hi, a.hi) && exact_product_taken(n2.hi, c.hi);
+    const int sign_d = (d1 > 0) == (d2 > 0) ? 1 : -1;
+    if (n1.lo == 0 && n2.lo == 0)
+        return (taken ? compare_rounded_pairs(a, c) : compare_products(n1.hi, d2, n2.hi, d1)) * sign_d;
+    if (!taken) return std::nullopt;
+    const Pair b = two_prod(n1.lo, d2), d = two_prod(n2.lo, d1);
+    if (!(exact_product_taken(n1.lo, b.hi) && exact_product_taken(n2.lo, d.hi))) return std::nullopt;
+    const double x[8] = {a.lo, b.lo, -c.lo, -d.lo, a.hi, b.hi, -c.hi, -d.hi};
+    return exact_sum_sign(x, 8) * sign_d;
+}
+// sign((p − o)/d − t) likewise for a finite t: the sign of (s + e) − t·d, s + e = p − o
+// (two_sum: s its rounding) and t·d (two_prod) both as rounded pairs
+// (compare_rounded_pairs) where t·d is taken and e is finite (no step of two_sum
+// overflowed); where it is not taken but e = 0, the sign of s·1 − t·d by
+// compare_products; none otherwise.
+inline std::optional<int> compare_slab_value(double p, double o, double d, double t) {
+    const Pair n = two_sum(p, -o), td = two_prod(t, d);
+    const int sign_d = d > 0 ? 1 : -1;
+    if (exact_product_taken(t, td.hi) && n.lo - n.lo == 0) return compare_rounded_pairs(n, td) * sign_d;
+    if (n.lo == 0) return compare_products(n.hi, 1.0, t, d) * sign_d;
+    return std::nullopt;
 }
 
 // The determinant a(ei − fh) − b(di − fg) + c(dh − eg) in an exact type.
