@@ -636,33 +636,27 @@ private:
         if (!given_) given_.emplace(values(), floats_);
         return *given_;
     }
-    // Row i's exact values (affine_exact_row), made on first use; null where it has none.
+    // Row i's exact values (affine_exact_row); null where it has none. Every row is made
+    // on the first use of one, once (a query that asks one row mostly asks the others:
+    // its comparisons and roundings run over the axes), from the deltas made once.
     const AffineExactRow* exact_row(int i) const {
-        const unsigned made = 1u << i, exact = 1u << (8 + i);
-        if (!(rows_ & made)) {
-            rows_ |= made;
-            if (!(rows_ & kDeltasMade)) {
-                rows_ |= kDeltasMade;
-                if (const std::optional<AffineDeltas> x = affine_exact_deltas(given().values())) {
-                    delta_ = *x;
-                    rows_ |= kDeltasExact;
-                }
-            }
-            if (rows_ & kDeltasExact)
-                if (const std::optional<AffineExactRow> x = affine_exact_row(given().values(), delta_, i)) {
-                    row_[i] = *x;
-                    rows_ |= exact;
-                }
+        if (!rows_made_) {
+            rows_made_ = true;
+            const AffineValues<R>& v = given().values();
+            if (const std::optional<AffineDeltas> delta = affine_exact_deltas(v))
+                for (int k = 0; k < R; ++k)
+                    if (const std::optional<AffineExactRow> x = affine_exact_row(v, *delta, k)) {
+                        row_[k] = *x;
+                        exact_rows_ |= 1u << k;
+                    }
         }
-        return (rows_ & exact) ? &row_[i] : nullptr;
+        return ((exact_rows_ >> i) & 1u) ? &row_[i] : nullptr;
     }
     AffineValues<R> values() const { return static_cast<const Frame&>(*this).affine_values(); }
     mutable std::optional<AffineQuotients<R>> given_, scaled_, balanced_;
-    static constexpr unsigned kDeltasMade = 1u << 16, kDeltasExact = 1u << 17;
-    mutable unsigned rows_ = 0;  // bit i: row i made, bit 8 + i: it is exact; the deltas' bits
-    mutable AffineDeltas delta_;
     mutable AffineExactRow row_[std::size_t(R)];
-    mutable bool scaled_made_ = false, balanced_made_ = false;
+    mutable unsigned exact_rows_ = 0;  // bit i: row i is exact
+    mutable bool rows_made_ = false, scaled_made_ = false, balanced_made_ = false;
     bool floats_;
 };
 
