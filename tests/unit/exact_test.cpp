@@ -1089,6 +1089,8 @@ TEST(ExactSlabValues, ComparisonsAtAnyScaleAgainstMpq) {
             if (const std::optional<int> c = compare_slab_value(p1, o1, d1, t)) {
                 ASSERT_EQ(*c, sgn(v1 - Q(t))) << "t = " << hex(t);
                 ++constants_answered;
+            } else {
+                ASSERT_NE(n1.lo, 0.0) << "declined against a constant with an exact difference, t = " << hex(t);
             }
         }
     }
