@@ -226,28 +226,33 @@ template <int R> std::optional<AffineDeltas> affine_exact_deltas(const AffineVal
     if (!ok) return std::nullopt;
     return x;
 }
+// Both sides' numerators in the two lanes of detail/lanes.hpp (each addition of
+// -a_ij·(o_j - c_j) one two_sum for the pair) and den in lane 0 of a second pair, the
+// two products of a_ij in one multiplication: the same products, sums and checks as
+// each value computed on its own, two at a time. Contraction: every product kept is
+// exact (class C2: a fused product and sum is the same sum).
 template <int R>
 std::optional<AffineExactRow> affine_exact_row(const AffineValues<R>& v, const AffineDeltas& delta, int i) {
-    const auto product = [](double a, double b, double& p) {  // p = a·b; exact?
-        p = a * b;
-        const double m = std::abs(p);
-        return int(a == 0) | int(b == 0) | (int(m >= std::numeric_limits<double>::min()) & int(m <= 0x1p1000));
-    };
-    const auto add = [](double& s, double p) {  // s += p; exact?
-        const Pair t = two_sum(s, p);
-        s = t.hi;
-        return int(t.lo == 0) & int(std::abs(t.hi) <= std::numeric_limits<double>::max());
-    };
-    double lo = -v.h[i], hi = v.h[i], den = 0.0;
-    int ok = 1;
+    using namespace lanes;
+    const D2 zero = splat(0.0), smallest = splat(std::numeric_limits<double>::min()), largest = splat(0x1p1000),
+             finite = splat(std::numeric_limits<double>::max());
+    D2 num = make(-v.h[i], v.h[i]), den = zero;  // (side 0, side 1), (den, 0)
+    M2 ok = zero == zero;
+    int a_ok = 1;
     for (int j = 0; j < 3; ++j) {
         const double a = v.a[i][j];
-        double pn, pd;
-        ok &= short_double(a) & product(-a, delta.d[j], pn) & product(a, v.d[j], pd);
-        ok &= add(lo, pn) & add(hi, pn) & add(den, pd);
+        a_ok &= short_double(a);
+        // (-a_ij·(o_j - c_j), a_ij·d_j), each exact: a zero factor, or of magnitude in [2^-1022, 2^1000]
+        const D2 f = make(-delta.d[j], v.d[j]), p = splat(a) * f, m = abs(p);
+        ok = ok & ((splat(a) == zero) | (f == zero) | ((m >= smallest) & (m <= largest)));
+        // every addition exact: two_sum's error 0 and the sum finite
+        const SumOf<D2> x = two_sum(num, splat(lane0(p))), y = two_sum(den, make(lane1(p), 0.0));
+        num = x.hi;
+        den = y.hi;
+        ok = ok & (x.lo == zero) & (abs(x.hi) <= finite) & (y.lo == zero) & (abs(y.hi) <= finite);
     }
-    if (!ok) return std::nullopt;
-    return AffineExactRow{{lo, hi}, den};
+    if (!(a_ok & int(bits(ok) == 3))) return std::nullopt;
+    return AffineExactRow{{lane0(num), lane1(num)}, lane0(den)};
 }
 // The cascade's sums for value (i, side) of an exact row on safe input, as
 // affine_row_sums makes them there: every error term 0, so c = +0 and S = +0, and the
